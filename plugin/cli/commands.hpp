@@ -1,0 +1,17 @@
+// Subcommands of the redpost command-line host. Each registers its options on the CLI11 app and
+// returns the process exit code when run: 0 success, 2 bad input or an unreachable path.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace redpost::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBadInput = 2;
+
+using Runner = std::function<int()>;
+
+Runner add_fk_command(CLI::App& app);
+
+}  // namespace redpost::cli

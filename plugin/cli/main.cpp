@@ -1,0 +1,34 @@
+// redpost: the command-line host.
+#include <cstdio>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "redpost/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"redpost: postprocessor for redundant robotic milling cells"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "redpost 0.1.0");
+
+  const redpost::cli::Runner fk = redpost::cli::add_fk_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : redpost::cli::kExitBadInput;
+  }
+  try {
+    if (app.got_subcommand("fk"))
+      return fk();
+  } catch (const redpost::Error& e) {
+    fmt::print(stderr, "redpost: {}\n", e.what());
+    return redpost::cli::kExitBadInput;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "redpost: internal error: {}\n", e.what());
+    return 3;
+  }
+  return redpost::cli::kExitBadInput;
+}
