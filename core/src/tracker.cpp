@@ -1,5 +1,6 @@
 #include "redpost/tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -45,6 +46,9 @@ Tracker::Tracker(const Cell& cell, const TrackerOptions& options)
 
 void Tracker::reset(const JointVector& q) {
   q_ = q;
+  q_prev_ = q;
+  history_ = 0;
+  scratch_valid_ = false;
   switch_ = SwitchState{};
   switch_.q_Ts = q;
 }
@@ -84,7 +88,8 @@ void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full
 }
 
 PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState* goals,
-                            bool full_goals, int max_iterations, Scratch& s) const {
+                            bool full_goals, int max_iterations, bool start_evaluated,
+                            Scratch& s) const {
   const Cell& cell = *cell_;
   const int n = cell.size();
   const TrackerOptions& o = options_;
@@ -97,11 +102,15 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
   RrsStepInfo info;
 
   for (int it = 0;; ++it) {
-    forward_kinematics(cell, q, s.data);
-    const Eigen::Matrix3d R_d = desired_rotation(target, s.data.T_B_tcp.linear());
-    const Vector6d dt = task_error(s.data.T_B_tcp, R_d, target.p_B_mm);
+    // The previous pose ended at this very posture: its frames and Jacobian are still in `s`.
+    const bool evaluated = it == 0 && start_evaluated;
+    if (!evaluated)
+      forward_kinematics(cell, q, s.data);
+    const Vector6d dt = task_error(s.data.T_B_tcp, target);
     r.position_error_mm = dt.tail<3>().norm();
-    r.orientation_error_rad = orientation_error(target, s.data.T_B_tcp.linear());
+    // |Q vect(Q^T Q_d)| = sin(phi) <= phi (or phi itself beyond 90 deg): the exact angle is only
+    // computed once, for the result.
+    r.orientation_error_rad = dt.head<3>().norm();
     r.iterations = it;
     const bool within = r.position_error_mm <= o.position_tolerance_mm &&
                         r.orientation_error_rad <= o.axis_tolerance_rad;
@@ -118,7 +127,8 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
       break;
     }
 
-    tcp_jacobian(cell, s.data, s.J);
+    if (!evaluated)
+      tcp_jacobian(cell, s.data, s.J);
     if (goals != nullptr && it == 0) {
       null_space_motion(q, *goals, full_goals, s);
     } else {
@@ -151,6 +161,7 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
   }
   r.sigma_min = info.sigma_min;
   r.damping = info.damping;
+  r.orientation_error_rad = orientation_error(target, s.data.T_B_tcp.linear());
   if (r.status != PoseStatus::converged)
     return r;
   if (r.offending_joint >= 0)
@@ -163,8 +174,32 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
   return r;
 }
 
+bool steady_continuation(const Eigen::Vector3d& p0, const Eigen::Vector3d& z0,
+                         const Eigen::Vector3d& p1, const Eigen::Vector3d& z1,
+                         const TcpTarget& next) {
+  const Eigen::Vector3d dp1 = p1 - p0, dp2 = next.p_B_mm - p1;
+  const Eigen::Vector3d dz1 = z1 - z0, dz2 = next.z_B - z1;
+  return (dp2 - dp1).norm() <= 0.25 * dp2.norm() + 1e-9 &&
+         (dz2 - dz1).norm() <= 0.25 * dz2.norm() + 1e-9;
+}
+
+bool Tracker::steady(const TcpTarget& target) const {
+  return history_ >= 2 && steady_continuation(before_p_, before_z_, last_p_, last_z_, target);
+}
+
 PoseResult Tracker::track(const TcpTarget& target) {
-  PoseResult r = iterate(target, q_, &switch_, true, options_.max_iterations, scratch_);
+  // Start from the previous posture (Algorithm 1), or, on a steady stretch of path, from its
+  // linear extrapolation: one Newton step from there usually meets the tolerance, where two are
+  // needed from the previous posture (docs/redundancy.md).
+  const bool predict = options_.extrapolate && steady(target);
+  if (predict) {
+    scratch_.dq = q_ + (q_ - q_prev_);
+    for (int i = 0; i < cell_->size(); ++i) {
+      scratch_.dq[i] = std::clamp(scratch_.dq[i], cell_->joint(i).lower, cell_->joint(i).upper);
+    }
+  }
+  PoseResult r = iterate(target, predict ? scratch_.dq : q_, &switch_, true,
+                         options_.max_iterations, !predict && scratch_valid_, scratch_);
   if (r.status == PoseStatus::converged) {
     // The jump bound between consecutive postures.
     for (int i = 0; i < cell_->size(); ++i) {
@@ -182,9 +217,17 @@ PoseResult Tracker::track(const TcpTarget& target) {
       }
     }
   }
+  // After a converged pose the scratch holds the frames and Jacobian at the new posture.
+  scratch_valid_ = r.status == PoseStatus::converged;
   if (r.status == PoseStatus::converged) {
+    q_prev_ = q_;
     q_ = r.q;
     switch_.inv_kappa_at_start = r.inv_condition;
+    before_p_ = last_p_;
+    before_z_ = last_z_;
+    last_p_ = target.p_B_mm;
+    last_z_ = target.z_B;
+    history_ = std::min(history_ + 1, 2);
   } else {
     r.q = q_;
   }
@@ -216,7 +259,7 @@ PoseResult Tracker::solve_first_pose(const TcpTarget& target, int perturbed_star
   auto attempt = [&](const JointVector& start) {
     SwitchState sw;
     sw.q_Ts = start;
-    PoseResult r = iterate(target, start, &sw, false, 200, s);
+    PoseResult r = iterate(target, start, &sw, false, 200, false, s);
     if (r.status == PoseStatus::converged && within_limits(cell, r.q)) {
       double cost = 0.0;
       for (int i = 0; i < n; ++i)

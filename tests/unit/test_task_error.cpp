@@ -53,3 +53,17 @@ TEST_CASE("task error: a free spin asks only for the axis") {
   CHECK(std::abs(dt.head<3>().dot(z)) < 1e-14);
   CHECK(orientation_error(t, T.linear()) == Approx(std::atan(0.1)).epsilon(1e-12));
 }
+
+TEST_CASE("task error: the free-spin shortcut equals eq. 14 with the smallest rotation") {
+  std::mt19937_64 rng(43);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    Isometry T = Isometry::Identity();
+    T.linear() = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+    T.translation() = Eigen::Vector3d(g(rng), g(rng), g(rng)) * 300.0;
+    const TcpTarget t = TcpTarget::axis(Eigen::Vector3d(g(rng), g(rng), g(rng)) * 300.0,
+                                        Eigen::Vector3d(g(rng), g(rng), g(rng)));
+    const Vector6d general = task_error(T, desired_rotation(t, T.linear()), t.p_B_mm);
+    CHECK((task_error(T, t) - general).norm() < 1e-12 * (1.0 + general.norm()));
+  }
+}

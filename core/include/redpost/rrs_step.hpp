@@ -13,8 +13,8 @@
 // Near a singularity (smallest singular value sigma of Jw below eps) the forward substitution is
 // replaced by damped least squares, y1 = U (U^T U + lambda^2 I)^-1 r, with the variable damping
 // lambda^2 = (1 - (sigma/eps)^2) lambda_max^2 of Nakamura and Maciejewski: the step stays
-// bounded as sigma -> 0 and is exact (lambda = 0) away from singularities. sigma is estimated by
-// inverse iteration on U^T U. docs/redundancy.md.
+// bounded as sigma -> 0 and is exact (lambda = 0) away from singularities. sigma is taken as the
+// lower bound 1 / ||U^-1||_F (within a factor sqrt(6) of it). docs/redundancy.md.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -38,7 +38,7 @@ struct RrsWorkspace {
 };
 
 struct RrsStepInfo {
-  double sigma_min = 0.0;  // estimated smallest singular value of S J W^-1/2
+  double sigma_min = 0.0;  // lower bound on the smallest singular value of S J W^-1/2
   double damping = 0.0;    // lambda applied (0: exact Algorithm 2)
 };
 

@@ -52,6 +52,11 @@ Eigen::Matrix3d desired_rotation(const TcpTarget& target, const Eigen::Matrix3d&
 Vector6d task_error(const Isometry& T_B_tcp, const Eigen::Matrix3d& R_B_desired,
                     const Eigen::Vector3d& p_B_desired);
 
+// Eq. 14 for a target, with Q_d = desired_rotation(target, Q). For a free spin this reduces to
+// [z x z_d; p_d - p] (vect is equivariant, Q vect(Q^T R Q) = vect(R), and vect of the smallest
+// rotation from z to z_d is z x z_d), which is what is computed: no rotation matrix is formed.
+Vector6d task_error(const Isometry& T_B_tcp, const TcpTarget& target);
+
 // Angle between the TCP's z axis and the target axis (rad), and between frames if spin_fixed.
 double orientation_error(const TcpTarget& target, const Eigen::Matrix3d& R_B_tcp);
 

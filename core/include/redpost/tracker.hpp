@@ -33,6 +33,10 @@ struct TrackerOptions {
   double max_iteration_step = 0.3;
   NullSpaceGains gains;
   RrsSettings rrs;  // characteristic_length_mm is taken from the cell when it declares one
+                    // Start each pose of a steady stretch of path (equal steps) from the linear
+                    // extrapolation of
+  // the last two postures instead of the last one; false: plain Algorithm 1.
+  bool extrapolate = true;
   // Joints held at their current value (e.g. to compare with track and table frozen).
   std::bitset<kMaxJoints> locked;
   // Reference posture for centring; empty: the cell's home.
@@ -63,6 +67,13 @@ struct PoseResult {
   double sigma_min = 0.0;       // of the weighted, scaled Jacobian at the last iteration
   double damping = 0.0;         // damping used at the last iteration
 };
+
+// True when the step to `next` repeats the step from (p0, z0) to (p1, z1): same direction and
+// length within a quarter, in position and in tool axis. On such a stretch the linear
+// extrapolation of the last two postures is a second-order accurate start for the next pose.
+bool steady_continuation(const Eigen::Vector3d& p0, const Eigen::Vector3d& z0,
+                         const Eigen::Vector3d& p1, const Eigen::Vector3d& z1,
+                         const TcpTarget& next);
 
 class Tracker {
  public:
@@ -111,7 +122,7 @@ class Tracker {
   // With `goals`, the null-space motion is applied on the first iteration; `full_goals` adds the
   // conditioning and limit terms to the centring.
   PoseResult iterate(const TcpTarget& target, JointVector q, SwitchState* goals, bool full_goals,
-                     int max_iterations, Scratch& s) const;
+                     int max_iterations, bool start_evaluated, Scratch& s) const;
   void null_space_motion(const JointVector& q, SwitchState& sw, bool full_goals, Scratch& s) const;
 
   const Cell* cell_;
@@ -120,7 +131,13 @@ class Tracker {
   JointVector q_ref_;
   JointVector base_inv_sqrt_w_;
   SwitchState switch_;
+  // The last two converged poses, for the predictor.
+  JointVector q_prev_;
+  Eigen::Vector3d last_p_, last_z_, before_p_, before_z_;
+  int history_ = 0;
+  bool steady(const TcpTarget& target) const;
   Scratch scratch_;
+  bool scratch_valid_ = false;  // scratch_ holds FK and Jacobian at q_
 };
 
 }  // namespace redpost
