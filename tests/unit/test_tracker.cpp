@@ -280,3 +280,36 @@ TEST_CASE("tracker: a pose beyond a joint limit fails with joint_limit, naming t
   CHECK(poses > 4 * 170);              // not before A1 has used most of its range
   CHECK(within_limits(cell, last.q));  // the reported posture is the last good one
 }
+
+TEST_CASE("tracker: a jump beyond the bound is refused and the posture kept") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  TrackerOptions o;
+  o.max_joint_step_rad = deg_to_rad(0.5);
+  o.max_joint_step_mm = 5.0;
+  Tracker tracker(cell, o);
+  const Isometry T0 = tcp_pose(cell, cell.home());
+  // 0.5 mm: fine. 100 mm in one pose: some joint must move more than 0.5 deg or 5 mm.
+  PoseResult r = tracker.track(
+      TcpTarget::axis(T0.translation() + Eigen::Vector3d(0.5, 0, 0), T0.linear().col(2)));
+  REQUIRE(r.status == PoseStatus::converged);
+  const JointVector before = tracker.q();
+  r = tracker.track(
+      TcpTarget::axis(T0.translation() + Eigen::Vector3d(100, 0, 0), T0.linear().col(2)));
+  CHECK(r.status == PoseStatus::joint_jump);
+  CHECK(r.offending_joint >= 0);
+  CHECK(r.q == before);
+  CHECK(tracker.q() == before);
+}
+
+TEST_CASE("tracker: the KR270-2 cell (modified DH, spin after a fixed frame) tracks a raster") {
+  const Cell cell = test::shipped_cell("caro2014_kr270_table");
+  Tracker tracker(cell);
+  const auto path = test::raster_in_tool_plane(cell, 300, 300, 1.0, 25, 15, 5000);
+  const PathRun run = run_path(tracker, path);
+  REQUIRE(run.failures == 0);
+  for (size_t k = 0; k < path.size(); k += 50) {
+    const Isometry T = tcp_pose(cell, run.results[k].q);
+    CHECK((T.translation() - path[k].p_B_mm).norm() <= 1e-4);
+    CHECK(within_limits(cell, run.results[k].q));
+  }
+}

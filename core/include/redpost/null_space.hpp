@@ -22,7 +22,7 @@ struct NullSpaceGains {
   double centring = 0.01;               // H_jnt (per pose), paper: diag(0.01)
   double conditioning = 0.01;           // H_cond, paper: diag(0.01)
   double conditioning_threshold = 0.3;  // switch on 1/kappa_F of the arm
-  double conditioning_gradient = 0.0;   // k_grad on grad(1/kappa_F), rad per unit of 1/kappa_F
+  double conditioning_gradient = 0.1;   // k_grad on grad(1/kappa_F), active with the switch
   double limits = 0.1;                  // k_lim
   double limit_zone = 0.1;              // fraction of each joint's range near a limit
 };
