@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
-# Set-up, build, then run the main job on a bundled example.
+# Set-up, build, then the main job on a bundled example: a 5-axis finishing pass (NX CLSF) on
+# the Andres track-and-table cell, converted to a KUKA KRL program in out/quickstart/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-example=examples/fk/andres_home_and_sweep.txt
-echo "== redpost fk on the Andres cell ($example): TCP x y z and rotation, mm"
-build/plugin/redpost fk --cell definitions/cells/andres2011_kr15_track_table.xml --axes <"$example"
+out=out/quickstart
+mkdir -p "$out"
+build/plugin/redpost convert examples/cl/surface_5axis.cls \
+  --cell definitions/cells/andres2011_kr15_track_table.xml \
+  -o "$out" --name SURFACE_5AXIS --joints-csv "$out/joints.csv"
+echo "== the first motions of $out/SURFACE_5AXIS.src"
+grep -m 8 -E "^(PTP|LIN|\\\$VEL)" "$out/SURFACE_5AXIS.src"

@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libtinyxml2-dev libfmt-dev libcli11-dev tcl8.6-dev libnlopt-cxx-dev
-  catch2 liborocos-kdl-dev libbenchmark-dev clang-format
+    catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time
 )
 
 missing=()
@@ -24,6 +24,14 @@ if ((${#missing[@]})); then
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -q
   $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# The locale test converts under a German locale (decimal comma) and expects identical bytes.
+if ! locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
+  echo "setup: generating the de_DE.UTF-8 locale for the locale test"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  $sudo localedef -i de_DE -f UTF-8 de_DE.UTF-8 || echo "setup: could not generate de_DE.UTF-8"
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)

@@ -11,7 +11,8 @@
 
 namespace redpost {
 
-std::string read_text_file(const std::string& path, std::size_t max_bytes) {
+namespace {
+struct stat checked_stat(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     const int err = errno;
@@ -23,6 +24,22 @@ std::string read_text_file(const std::string& path, std::size_t max_bytes) {
   if (S_ISDIR(st.st_mode)) {
     throw Error(ErrorCode::io, "is a directory, expected a file", SourceLocation{path, 0, 0});
   }
+  return st;
+}
+}  // namespace
+
+std::ifstream open_text_stream(const std::string& path) {
+  checked_stat(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw Error(ErrorCode::io, std::string("cannot open the file: ") + std::strerror(errno),
+                SourceLocation{path, 0, 0});
+  }
+  return in;
+}
+
+std::string read_text_file(const std::string& path, std::size_t max_bytes) {
+  const struct stat st = checked_stat(path);
   if (static_cast<std::size_t>(st.st_size) > max_bytes) {
     throw Error(ErrorCode::io,
                 "file is " + std::to_string(st.st_size) + " bytes, more than the " +

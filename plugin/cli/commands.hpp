@@ -13,5 +13,6 @@ inline constexpr int kExitBadInput = 2;
 using Runner = std::function<int()>;
 
 Runner add_fk_command(CLI::App& app);
+Runner add_convert_command(CLI::App& app);
 
 }  // namespace redpost::cli

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "redpost 0.1.0");
 
   const redpost::cli::Runner fk = redpost::cli::add_fk_command(app);
+  const redpost::cli::Runner convert = redpost::cli::add_convert_command(app);
 
   try {
     app.parse(argc, argv);
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("fk"))
       return fk();
+    if (app.got_subcommand("convert"))
+      return convert();
   } catch (const redpost::Error& e) {
     fmt::print(stderr, "redpost: {}\n", e.what());
     return redpost::cli::kExitBadInput;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <fstream>
 #include <string>
 
 namespace redpost {
@@ -13,5 +14,9 @@ inline constexpr std::size_t kMaxDefinitionBytes = 16u << 20;  // 16 MiB
 
 // Throws Error(ErrorCode::io) with the path in the message.
 std::string read_text_file(const std::string& path, std::size_t max_bytes = kMaxDefinitionBytes);
+
+// Opens a file to be streamed (a CL file), with the same checks and messages: missing, a
+// directory, unreadable.
+std::ifstream open_text_stream(const std::string& path);
 
 }  // namespace redpost

@@ -1,0 +1,43 @@
+// KRL template sets (definitions/krl/*.xml, format in docs/krl-templates.md).
+//
+// A template set holds the file skeletons and the format of every statement the writer emits;
+// the C++ holds no KRL text. Placeholders are written {name}; the writer substitutes them and
+// refuses a template that uses a placeholder the statement does not have.
+#pragma once
+
+#include <map>
+#include <string>
+
+namespace redpost {
+
+struct KrlTemplateSet {
+  std::string name;         // e.g. krc4_lin
+  std::string source_file;  // for messages
+
+  // Skeletons, lines separated by '\n' (the writer ends every line with CRLF). {name} program
+  // name, {date}, {body} the statements, {decls} the declarations of a split program's main,
+  // {base}, {tool}, {apo_mm}, {header_comment} ... (the full list per file kind is in
+  // docs/krl-templates.md).
+  std::string src_file, dat_file;            // a program (the main one, or a part)
+  std::string main_src_file, main_dat_file;  // the main program of a split program
+
+  // Statement formats, by name: "ptp_axes", "lin", "rapid", "vel", "comment", "cl_line",
+  // "tool_change", "spindle_on", "spindle_off", "coolant_on", "coolant_off", "literal",
+  // "call", "spline_begin", "spline_end", "spline_lin", "ext_axis" (one external axis in
+  // {ext}), "call_decl" (one line of a split program's {decls}); see docs/krl-templates.md.
+  std::map<std::string, std::string> statements;
+
+  int position_decimals = 3;  // mm
+  int angle_decimals = 4;     // deg
+  int velocity_decimals = 5;  // m/s
+  int external_decimals = 4;  // E1..E6, whether mm (track) or deg (table)
+  int rpm_decimals = 0;       // spindle speed
+  bool spline = false;        // motions are grouped into SPLINE blocks of spline_lin
+  int max_spline_points = 100;
+};
+
+// Throws Error(io / bad_input) with file:line.
+KrlTemplateSet load_krl_templates(const std::string& path);
+KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::string& source_name);
+
+}  // namespace redpost

@@ -1,0 +1,92 @@
+// A postprocessing session: CL events in, a KRL program out.
+//
+// Every front end (the CL file reader, the NX event handlers through the C ABI, other C hosts)
+// drives the same session, so the same toolpath gives the same bytes whichever way it came in.
+// The session streams: each move is tracked (Andres Algorithm 1, see tracker.hpp) and written at
+// once; memory does not grow with the number of poses.
+//
+// Failures throw Error with the CL source and line ("part.apt:1234: pose 5012 unreachable ...")
+// and leave no output that looks finished (the writer's temporary files are removed).
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "redpost/cell.hpp"
+#include "redpost/cl_event.hpp"
+#include "redpost/krl_writer.hpp"
+#include "redpost/tracker.hpp"
+
+namespace redpost {
+
+struct PostOptions {
+  KrlProgramInfo program;
+  TrackerOptions tracker;
+  // Where the CL (workpiece) frame sits in the cell's frame {B}. Identity for the reference cell,
+  // whose {B} is the workpiece frame on the table.
+  Isometry T_B_part = Isometry::Identity();
+  // The frame the E6POS coordinates are written in ($BASE), expressed in {B}.
+  Isometry T_B_base = Isometry::Identity();
+  // Long moves are tracked in steps of at most this length (mm) and this axis turn, so that the
+  // redundancy is resolved continuously along them; only the end point is written.
+  double max_step_mm = 5.0;
+  double max_step_axis_deg = 2.0;
+  // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
+  double default_feed_mm_per_min = 1000.0;
+  // Name of the CL source, for messages ("part.apt").
+  std::string source_name = "<cl>";
+  // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
+  std::string joints_csv_path;
+};
+
+struct JointRange {
+  double lowest = 0.0, highest = 0.0;             // DH units
+  double margin_lower = 0.0, margin_upper = 0.0;  // smallest distance to each limit
+};
+
+struct PostSummary {
+  long poses = 0;    // postures tracked (including the intermediate steps of long moves)
+  long motions = 0;  // motions written
+  double lowest_inv_condition = 1.0;
+  int lowest_inv_condition_line = 0;  // CL line where it occurred
+  std::vector<JointRange> joints;     // per joint, chain order
+  std::vector<std::string> warnings;
+  std::vector<std::string> files;  // final .src files written (after finish)
+};
+
+class PostSession {
+ public:
+  PostSession(const Cell& cell, const KrlTemplateSet& templates, const PostOptions& options);
+  ~PostSession();
+  PostSession(const PostSession&) = delete;
+  PostSession& operator=(const PostSession&) = delete;
+
+  // Dispatches one event of a CL stream to the calls below.
+  void handle(const ClEvent& event);
+
+  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm);
+  void spindle(double rpm, SpindleDirection direction);
+  void feed(double mm_per_min);
+  void rapid();  // the next move is a rapid traverse
+  void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  void coolant(bool on, const std::string& mode);
+  void operation_start(const std::string& name);
+  void operation_end();
+  void comment(const std::string& text);
+  void literal(const std::string& text);
+
+  // Completes the program (renaming the files into place) and returns the summary.
+  const PostSummary& finish();
+
+  const PoseResult& last_pose() const;
+  const PostSummary& summary() const;
+  const Cell& cell() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace redpost

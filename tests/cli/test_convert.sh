@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# `redpost convert` driven as a user drives it: success, bad input, unreachable paths, the
+# licensed sample files, the locale. Usage: test_convert.sh REDPOST SOURCE_DIR
+set -uo pipefail
+redpost=$1 src=$2
+cell=$src/definitions/cells/andres2011_kr15_track_table.xml
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+checks=0 failures=0
+pass() { checks=$((checks + 1)); }
+fail() { checks=$((checks + 1)); failures=$((failures + 1)); echo "FAIL: $*"; }
+
+run() {  # run NAME ARGS...: stdout/stderr to $work/NAME.{out,err}, exit code in $rc
+  local name=$1; shift
+  "$redpost" "$@" >"$work/$name.out" 2>"$work/$name.err"
+  rc=$?
+}
+
+# 1. Success: files, summary, joints CSV header.
+mkdir -p "$work/ok"
+run ok convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/ok" --name POCKET \
+  --joints-csv "$work/ok/joints.csv"
+[ "$rc" -eq 0 ] && pass || fail "pocket: exit $rc: $(cat "$work/ok.err")"
+[ -s "$work/ok/POCKET.src" ] && [ -s "$work/ok/POCKET.dat" ] && pass || fail "pocket: no .src/.dat"
+grep -q "^poses [0-9]" "$work/ok.out" && pass || fail "pocket: no summary: $(cat "$work/ok.out")"
+head -1 "$work/ok/joints.csv" | grep -q "^pose,cl_line,theta_M,d_L,theta_1" && pass ||
+  fail "joints csv header: $(head -1 "$work/ok/joints.csv")"
+ls -a "$work/ok" | grep -q "~" && fail "temporary files left: $(ls -a "$work/ok")" || pass
+
+# 2. The name is derived from the input when --name is absent.
+mkdir -p "$work/derived"
+run derived convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/derived" -q
+[ "$rc" -eq 0 ] && [ -s "$work/derived/pocket_arcs.src" ] && pass ||
+  fail "derived name: $(ls "$work/derived") $(cat "$work/derived.err")"
+
+# 3. Locale: byte-identical output under a German locale (decimal comma).
+if locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
+  mkdir -p "$work/de"
+  LC_ALL=de_DE.UTF-8 "$redpost" convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" \
+    -o "$work/de" --name POCKET -q
+  cmp -s "$work/ok/POCKET.src" "$work/de/POCKET.src" && cmp -s "$work/ok/POCKET.dat" "$work/de/POCKET.dat" &&
+    pass || fail "output differs under LC_ALL=de_DE.UTF-8"
+else
+  echo "note: de_DE.UTF-8 not installed, locale check skipped"
+fi
+
+# 4. Bad input: exit 2, a message naming the file (and line where there is one), no output.
+expect_error() {  # expect_error NAME PATTERN ARGS...
+  local name=$1 pattern=$2; shift 2
+  mkdir -p "$work/$name.dir"
+  run "$name" convert "$@" -o "$work/$name.dir"
+  if [ "$rc" -ne 2 ]; then fail "$name: exit $rc, expected 2: $(cat "$work/$name.err")"; return; fi
+  if ! grep -Eq "$pattern" "$work/$name.err"; then
+    fail "$name: message does not match '$pattern': $(cat "$work/$name.err")"; return
+  fi
+  if [ -n "$(ls -A "$work/$name.dir")" ]; then fail "$name: left files: $(ls -A "$work/$name.dir")"; return; fi
+  pass
+}
+expect_error missing "nowhere\.apt: no such file" "$work/nowhere.apt" --cell "$cell"
+expect_error directory "is a directory" "$work" --cell "$cell"
+expect_error badcell "no_cell\.xml: no such file" "$src/examples/cl/pocket_arcs.apt" --cell "$work/no_cell.xml"
+printf 'UNITS/MM\nRAPID\nGOTO/-100,-450,100\nGOTO/-100,abc,100\n' >"$work/malformed.apt"
+expect_error malformed "malformed\.apt:4:[0-9]+:" "$work/malformed.apt" --cell "$cell"
+printf 'UNITS/MM\nRAPID\nGOTO/-100,-450,100\nFEDRAT/MMPM,1000\nGOTO/-100,-450,60\nGOTO/-100,-450,4000\n' >"$work/far.apt"
+expect_error unreachable "far\.apt:6: pose [0-9]+ .*(cannot be reached|leave its limits)" "$work/far.apt" --cell "$cell"
+printf 'UNITS/MM\n$$ ten metres above the table\nRAPID\nGOTO/0,0,10000\n' >"$work/far2.apt"
+expect_error unreachable2 "far2\.apt:4: pose 1 \(the first pose of the path\): the target cannot be reached" "$work/far2.apt" --cell "$cell"
+printf 'UNITS/MM\nGOTO/-100,-450,nan\n' >"$work/nan.apt"
+expect_error nan "nan\.apt:2:[0-9]+:" "$work/nan.apt" --cell "$cell"
+run noout convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/not/there"
+[ "$rc" -eq 2 ] && grep -q "not/there" "$work/noout.err" && pass ||
+  fail "missing output dir: exit $rc: $(cat "$work/noout.err")"
+expect_error longname "24" "$src/examples/cl/pocket_arcs.apt" --cell "$cell" --name ABCDEFGHIJKLMNOPQRSTUVWXYZ
+
+# 5. Every licensed sample CL file converts, or stops with a precise file:line message; never a
+#    crash or a hang. The SolidWorks parts are small and sit at the origin: place them on the
+#    table within reach; the NX samples are far larger than this cell and may well be refused.
+if [ -d "$src/../shared/evaldata" ]; then
+  for f in "$src"/../shared/evaldata/apt/*.apt "$src"/../shared/evaldata/clsf/*; do
+    name=$(basename "$f"); mkdir -p "$work/eval_$name"
+    timeout 120 "$redpost" convert "$f" --cell "$cell" -o "$work/eval_$name" --name EVAL \
+      --placement=-120,-450,40,0,0,0 -q >"$work/eval.out" 2>"$work/eval.err"
+    rc=$?
+    if [ "$rc" -eq 0 ]; then pass; echo "sample $name: converted"
+    elif [ "$rc" -eq 2 ] && grep -Eq "$name:[0-9]+" "$work/eval.err"; then
+      pass; echo "sample $name: refused: $(head -1 "$work/eval.err")"
+    else fail "sample $name: exit $rc: $(head -3 "$work/eval.err")"; fi
+  done
+else
+  echo "note: ../shared/evaldata not present, sample files skipped"
+fi
+
+echo "cli.convert: $((checks - failures)) passed, $failures failed"
+[ "$failures" -eq 0 ]

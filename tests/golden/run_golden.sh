@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Golden regression of `redpost convert` on the project's examples: every generated file must
+# equal the committed one byte for byte (and, once `redpost diff` exists, semantically too).
+#
+# Usage: run_golden.sh REDPOST SOURCE_DIR WORK_DIR [--update]
+#   --update rewrites tests/golden/ from the current output (review the diff before committing).
+set -euo pipefail
+redpost=$1 src=$2 work=$3 update=${4:-}
+cell=$src/definitions/cells/andres2011_kr15_track_table.xml
+cases=(
+  "pocket_arcs krc4_lin pocket_arcs.apt"
+  "pocket_arcs_spline krc4_spline pocket_arcs.apt"
+  "pocket_arcs_krc2 krc2_lin pocket_arcs.apt"
+  "surface_5axis krc4_lin surface_5axis.cls"
+  "long_pass krc4_lin long_pass.apt --split 150"
+)
+rm -rf "$work"
+failed=0
+for c in "${cases[@]}"; do
+  read -r name set input extra <<<"$c"
+  out=$work/$name
+  mkdir -p "$out"
+  # shellcheck disable=SC2086
+  "$redpost" convert "$src/examples/cl/$input" --cell "$cell" --krl "$src/definitions/krl/$set.xml" \
+    -o "$out" --name "$(echo "$name" | tr '[:lower:]' '[:upper:]')" -q $extra
+  if [ "$update" = "--update" ]; then
+    rm -rf "$src/tests/golden/$name"
+    cp -r "$out" "$src/tests/golden/$name"
+    echo "updated tests/golden/$name"
+    continue
+  fi
+  if ! diff -r "$src/tests/golden/$name" "$out" >"$work/$name.diff"; then
+    echo "golden $name differs:"; head -20 "$work/$name.diff"; failed=1
+  else
+    echo "golden $name: identical ($(ls "$out" | wc -l) files)"
+  fi
+done
+exit $failed
