@@ -185,7 +185,9 @@ struct KrlWriter::Impl {
       case Ph::a5:
       case Ph::a6: {
         const int n = static_cast<int>(ph) - static_cast<int>(Ph::a1) + 1;
-        number(out, v.axes->arm(n), t.angle_decimals, fmt::format("axis A{}", n));
+        static const char* const kArm[] = {"axis A1", "axis A2", "axis A3",
+                                           "axis A4", "axis A5", "axis A6"};
+        number(out, v.axes->arm(n), t.angle_decimals, kArm[n - 1]);
         break;
       }
       case Ph::e1:
@@ -195,7 +197,9 @@ struct KrlWriter::Impl {
       case Ph::e5:
       case Ph::e6: {
         const int n = static_cast<int>(ph) - static_cast<int>(Ph::e1) + 1;
-        number(out, v.axes->external(n), t.external_decimals, fmt::format("axis E{}", n));
+        static const char* const kExt[] = {"axis E1", "axis E2", "axis E3",
+                                           "axis E4", "axis E5", "axis E6"};
+        number(out, v.axes->external(n), t.external_decimals, kExt[n - 1]);
         break;
       }
       case Ph::ext: {

@@ -103,6 +103,7 @@ struct PostSession::Impl {
   PoseResult last;
   KinematicsData data;
   JointVector q_physical;
+  int spin_last = -1;  // chain index of a final pure-spin virtual joint (see physical_tcp)
   PostSummary summary;
 
   Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options)
@@ -110,7 +111,8 @@ struct PostSession::Impl {
         o(options),
         tracker(c, options.tracker),
         writer(templates, options.program),
-        arm(make_arm_status_model(c)) {
+        arm(make_arm_status_model(c)),
+        spin_last(last_pure_spin(c)) {
     summary.joints.assign(static_cast<size_t>(c.size()), JointRange{});
     for (JointRange& r : summary.joints) {
       r.lowest = r.margin_lower = r.margin_upper = std::numeric_limits<double>::infinity();
@@ -156,11 +158,10 @@ struct PostSession::Impl {
             "joint {} would jump by {} between two consecutive poses (a wrist flip or a "
             "discontinuous toolpath). Smooth the tool axis or split the operation",
             joint_label(cell, i),
-            i >= 0
-                ? (cell.joint(i).type == JointType::prismatic
-                       ? fmt::format("{:.3f} mm", std::abs(r.q[i] - tracker.q()[i]))
-                       : fmt::format("{:.3f} deg", rad_to_deg(std::abs(r.q[i] - tracker.q()[i]))))
-                : "?");
+            i >= 0 ? (cell.joint(i).type == JointType::prismatic
+                          ? fmt::format("{:.3f} mm", r.offending_step)
+                          : fmt::format("{:.3f} deg", rad_to_deg(r.offending_step)))
+                   : "?");
         throw Error(ErrorCode::unreachable, msg, SourceLocation{o.source_name, cl_line, 0});
       }
       case PoseStatus::converged:
@@ -196,15 +197,7 @@ struct PostSession::Impl {
     m.kind = kind;
     m.axes = to_controller_axes(cell, q);
     m.cl_line = cl_line;
-    // The physical TCP is the chain's TCP with every virtual joint at 0: the controller's $TOOL
-    // knows nothing of the free spin.
-    q_physical = q;
-    for (int i = 0; i < cell.size(); ++i) {
-      if (cell.joint(i).type == JointType::virtual_spin)
-        q_physical[i] = 0.0;
-    }
-    forward_kinematics(cell, q_physical, data);
-    m.T_base_tcp = o.T_B_base.inverse() * data.T_B_tcp;
+    m.T_base_tcp = o.T_B_base.inverse() * physical_tcp(q);
     m.status_turn = status_turn(cell, arm, q);
     writer.motion(m);
     ++summary.motions;
@@ -221,6 +214,36 @@ struct PostSession::Impl {
       line.push_back('\n');
       csv->write(line);
     }
+  }
+
+  // The physical TCP is the chain's TCP with every virtual joint at 0: the controller's $TOOL
+  // knows nothing of the free spin. When the only virtual joint ends the chain with a pure
+  // Rz(theta) Tz(d) link (alpha = 0, a = 0, no tool frame after it), that is the tracked TCP
+  // turned back by -theta about its own z: no second forward kinematics per motion.
+  Isometry physical_tcp(const JointVector& q) {
+    if (spin_last >= 0) {
+      Isometry T = tracker.tcp_pose_at_q();
+      T.linear() = T.linear() * Eigen::AngleAxisd(-q[spin_last], Eigen::Vector3d::UnitZ());
+      return T;
+    }
+    q_physical = q;
+    for (int i = 0; i < cell.size(); ++i) {
+      if (cell.joint(i).type == JointType::virtual_spin)
+        q_physical[i] = 0.0;
+    }
+    forward_kinematics(cell, q_physical, data);
+    return data.T_B_tcp;
+  }
+
+  static int last_pure_spin(const Cell& c) {
+    int virtuals = 0;
+    for (int i = 0; i < c.size(); ++i)
+      virtuals += c.joint(i).type == JointType::virtual_spin;
+    const int last = c.size() - 1;
+    const Joint& j = c.joint(last);
+    const bool pure = virtuals == 1 && j.type == JointType::virtual_spin && j.alpha_rad == 0.0 &&
+                      j.a_mm == 0.0 && !c.has_tcp_frame;
+    return pure ? last : -1;
   }
 
   TcpTarget target_in_B(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line) {

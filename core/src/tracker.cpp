@@ -53,14 +53,27 @@ void Tracker::reset(const JointVector& q) {
   switch_.q_Ts = q;
 }
 
+namespace {
+// Scales h down so that its weighted norm is at most `cap`.
+void cap_motion(const Cell& cell, double cap, JointVector& h) {
+  double norm2 = 0.0;
+  for (int i = 0; i < cell.size(); ++i)
+    norm2 += cell.joint(i).weight * h[i] * h[i];
+  if (norm2 > cap * cap)
+    h *= cap / std::sqrt(norm2);
+}
+}  // namespace
+
 void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full_goals,
                                 Scratch& s) const {
   const Cell& cell = *cell_;
   const NullSpaceGains& g = options_.gains;
   // Eq. 13, first term: centring on the reference posture.
   s.h = -g.centring * (q - q_ref_);
-  if (!full_goals)
+  if (!full_goals) {
+    cap_motion(cell, g.max_motion_per_pose, s.h);
     return;
+  }
 
   // Eq. 13, second term: the switch on the arm's conditioning.
   const double inv_kappa =
@@ -85,6 +98,7 @@ void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full
 
   limit_avoidance(cell, q, g.limits, g.limit_zone, s.h_lim);
   s.h += s.h_lim;
+  cap_motion(cell, g.max_motion_per_pose, s.h);
 }
 
 PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState* goals,
@@ -214,6 +228,7 @@ PoseResult Tracker::track(const TcpTarget& target) {
       if (step > bound && r.status == PoseStatus::converged) {
         r.status = PoseStatus::joint_jump;
         r.offending_joint = i;
+        r.offending_step = step;
       }
     }
   }
@@ -232,6 +247,10 @@ PoseResult Tracker::track(const TcpTarget& target) {
     r.q = q_;
   }
   return r;
+}
+
+Isometry Tracker::tcp_pose_at_q() const {
+  return scratch_valid_ ? scratch_.data.T_B_tcp : tcp_pose(*cell_, q_);
 }
 
 std::size_t Tracker::track(const TcpTarget* targets, std::size_t count, PoseResult* results) {

@@ -25,6 +25,11 @@ struct NullSpaceGains {
   double conditioning_gradient = 0.1;   // k_grad on grad(1/kappa_F), active with the switch
   double limits = 0.1;                  // k_lim
   double limit_zone = 0.1;              // fraction of each joint's range near a limit
+  // Largest null-space motion per pose, weighted norm sqrt(sum w_i h_i^2): 0.01 is 0.57 deg of
+  // a wrist or 10 mm of the reference cell's track. The goals pull hard when far from what they
+  // want (centring after a long excursion, the switch after a long stay below the threshold);
+  // the cap keeps each pose's self-motion small and the joint trajectory smooth.
+  double max_motion_per_pose = 0.01;
 };
 
 // Gradient of 1/kappa_F of the arm (cell.conditioning) with respect to every joint, from the

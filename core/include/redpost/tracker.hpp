@@ -64,6 +64,7 @@ struct PoseResult {
   double max_joint_step = 0.0;  // largest |dq_i| from the previous pose (rad or mm)
   int max_step_joint = -1;      // ... and which joint
   int offending_joint = -1;     // for joint_limit / joint_jump: the joint concerned
+  double offending_step = 0.0;  // for joint_jump: the step that joint would have made
   double sigma_min = 0.0;       // of the weighted, scaled Jacobian at the last iteration
   double damping = 0.0;         // damping used at the last iteration
 };
@@ -100,6 +101,8 @@ class Tracker {
                               std::uint64_t seed = 1) const;
 
   const JointVector& q() const { return q_; }
+  // The TCP pose at q() (valid after a converged track(); computed otherwise).
+  Isometry tcp_pose_at_q() const;
   const Cell& cell() const { return *cell_; }
   const TrackerOptions& options() const { return options_; }
 
