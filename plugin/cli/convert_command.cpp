@@ -80,9 +80,19 @@ Isometry parse_placement(const std::string& text) {
   return frame_from_xyzabc(v[0], v[1], v[2], KukaAbc{v[3], v[4], v[5]});
 }
 
+// Values as the robot programmer reads them: controller units for mapped joints (A2 -90 deg),
+// DH degrees or mm otherwise.
 std::string joint_value_text(const Joint& j, double v) {
-  return j.type == JointType::prismatic ? fmt::format("{:.1f} mm", v)
-                                        : fmt::format("{:.2f} deg", rad_to_deg(v));
+  const double shown = j.axis.mapped()                  ? to_axis_value(j, v)
+                       : j.type == JointType::prismatic ? v
+                                                        : rad_to_deg(v);
+  return fmt::format(j.type == JointType::prismatic ? "{:.1f} mm" : "{:.2f} deg", shown);
+}
+
+// A distance (a margin), in the joint's unit.
+std::string joint_distance_text(const Joint& j, double d) {
+  return j.type == JointType::prismatic ? fmt::format("{:.1f} mm", d)
+                                        : fmt::format("{:.2f} deg", rad_to_deg(d));
 }
 
 void print_summary(const Cell& cell, const PostSummary& s, double seconds) {
@@ -95,9 +105,16 @@ void print_summary(const Cell& cell, const PostSummary& s, double seconds) {
   for (int i = 0; i < cell.size(); ++i) {
     const Joint& j = cell.joint(i);
     const JointRange& r = s.joints[static_cast<size_t>(i)];
-    fmt::print("{:<12} {:>6} {:>26} {:>26}\n", j.name, axis_name(j.axis),
-               joint_value_text(j, r.lowest) + " .. " + joint_value_text(j, r.highest),
-               joint_value_text(j, r.margin_lower) + " / " + joint_value_text(j, r.margin_upper));
+    // A negative sign swaps the ends of the range in controller units.
+    std::string lo = joint_value_text(j, r.lowest), hi = joint_value_text(j, r.highest);
+    std::string m_lo = joint_distance_text(j, r.margin_lower),
+                m_hi = joint_distance_text(j, r.margin_upper);
+    if (j.axis.mapped() && j.axis.sign < 0) {
+      std::swap(lo, hi);
+      std::swap(m_lo, m_hi);
+    }
+    fmt::print("{:<12} {:>6} {:>26} {:>26}\n", j.name, axis_name(j.axis), lo + " .. " + hi,
+               m_lo + " / " + m_hi);
   }
   for (const std::string& f : s.files)
     fmt::print("wrote {}\n", f);
