@@ -13,11 +13,13 @@
 // phi_max = 4 asin(sqrt(tol / (2 r))) keeps every chord within tol (the axial part is linear in
 // both the helix and the chord, so it adds nothing).
 //
-// Internal to the CL reader (cl_reader.cpp); not installed.
+// Internal to core (the CL reader's CIRCLE and PostSession::circular_move); not installed.
 #pragma once
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <string>
 
 #include <Eigen/Core>
 
@@ -32,6 +34,9 @@ inline double arc_chord_count(double sweep_rad, double radius_mm, double toleran
     max_angle = std::min(max_angle, 4.0 * std::asin(std::sqrt(tolerance_mm / (2.0 * radius_mm))));
   return std::max(1.0, std::ceil(sweep_rad / max_angle));
 }
+
+// More chords than this is a tolerance typo.
+inline constexpr double kMaxArcChords = 1e8;
 
 struct ArcChords {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -55,5 +60,101 @@ struct ArcChords {
     return centre + h * axis + r * (std::cos(phi) * u + std::sin(phi) * v);
   }
 };
+
+// What is wrong with an arc, so that each caller can point at the right place (the CIRCLE
+// record, or the GOTO that ends the arc).
+enum class ArcProblem {
+  none,
+  start_on_axis,     // the start point lies on the axis: no radius, no direction
+  start_off_radius,  // the start is not at the given radius
+  end_off_circle,    // the end point is not on the start's circle
+  too_many_chords,   // the tolerance asks for more than kMaxArcChords chords
+};
+
+struct ArcBuild {
+  ArcChords arc;
+  ArcProblem problem = ArcProblem::none;
+  std::string message;  // what is wrong, without a location; empty when problem == none
+};
+
+// How the caller names things in messages, so that both callers share one geometry and one
+// wording: "CIRCLE gives the radius 12 mm", "not on the circle of the CIRCLE at line 3".
+struct ArcWording {
+  std::string radius_from = "CIRCLE";  // who gave the radius
+  std::string circle = "the circle";   // the circle the end point must lie on
+};
+
+inline std::string arc_format_mm(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6);
+  return std::string(buf, r.ptr);
+}
+
+// The chords of the arc from `start` to `end` about the unit `axis` through `centre`, turning by
+// the right-hand rule. `radius_mm` > 0 is checked against the start's distance from the axis
+// (0: none given). Both ends must lie on one circle within `point_tolerance_mm`; an end back at
+// the start's direction is a full turn (APT's way to write a circle). The chords stay within
+// `chordal_tolerance_mm` of the arc.
+inline ArcBuild make_arc_chords(const Eigen::Vector3d& start, const Eigen::Vector3d& centre,
+                                const Eigen::Vector3d& axis, double radius_mm,
+                                const Eigen::Vector3d& end, double point_tolerance_mm,
+                                double chordal_tolerance_mm, const ArcWording& wording = {}) {
+  constexpr double kTwoPi = 6.283185307179586;
+  ArcBuild b;
+  const Eigen::Vector3d& n = axis;
+  const Eigen::Vector3d rs = start - centre;
+  const Eigen::Vector3d re = end - centre;
+  const double h0 = rs.dot(n);
+  const double h1 = re.dot(n);
+  const Eigen::Vector3d us = rs - h0 * n;
+  const Eigen::Vector3d ue = re - h1 * n;
+  const double r0 = us.norm();
+  const double r1 = ue.norm();
+  const double tol = point_tolerance_mm;
+  if (!(r0 > 1e-9)) {
+    b.problem = ArcProblem::start_on_axis;
+    b.message = "the arc's start point lies on the circle's axis (radius 0)";
+    return b;
+  }
+  if (radius_mm > 0.0 && std::fabs(radius_mm - r0) > tol) {
+    b.problem = ArcProblem::start_off_radius;
+    b.message = "the arc starts " + arc_format_mm(r0) + " mm from the circle's axis, but " +
+                wording.radius_from + " gives the radius " + arc_format_mm(radius_mm) +
+                " mm (tolerance " + arc_format_mm(tol) + " mm)";
+    return b;
+  }
+  if (std::fabs(r1 - r0) > tol) {
+    b.problem = ArcProblem::end_off_circle;
+    b.message = "the arc's end point is not on " + wording.circle + ": it lies " +
+                arc_format_mm(r1) + " mm from the axis, the radius is " + arc_format_mm(r0) +
+                " mm (tolerance " + arc_format_mm(tol) + " mm)";
+    return b;
+  }
+  double sweep = kTwoPi;
+  if ((ue / r1 - us / r0).norm() > 1e-12) {
+    sweep = std::atan2(n.dot(us.cross(ue)), us.dot(ue));
+    if (sweep <= 0.0)
+      sweep += kTwoPi;
+  }
+  const double chords = arc_chord_count(sweep, std::max(r0, r1), chordal_tolerance_mm);
+  if (chords > kMaxArcChords) {
+    b.problem = ArcProblem::too_many_chords;
+    b.message = "this arc needs more than 1e8 chords: raise the chordal tolerance";
+    return b;
+  }
+  ArcChords& arc = b.arc;
+  arc.centre = centre;
+  arc.axis = n;
+  arc.u = us / r0;
+  arc.v = n.cross(arc.u);
+  arc.end = end;
+  arc.r0 = r0;
+  arc.r1 = r1;
+  arc.h0 = h0;
+  arc.h1 = h1;
+  arc.sweep_rad = sweep;
+  arc.chords = static_cast<long>(chords);
+  return b;
+}
 
 }  // namespace redpost::detail

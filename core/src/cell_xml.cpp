@@ -17,6 +17,7 @@
 #include "redpost/error.hpp"
 #include "redpost/kuka_abc.hpp"
 #include "redpost/text_file.hpp"
+#include "strict_xml.hpp"
 
 namespace redpost {
 
@@ -29,36 +30,10 @@ constexpr double kMaxLengthMm = 1e7;    // 10 km
 constexpr double kMaxAngleDeg = 1e5;    // about 280 turns
 constexpr double kMaxStiffness = 1e15;  // N*mm/rad
 
-class Reader {
+class Reader : public detail::StrictXml {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
-    throw Error(ErrorCode::bad_input, what, SourceLocation{source_, e ? e->GetLineNum() : 0, 0});
-  }
-
-  // Rejects attributes that the element does not know: a typo must not be silently ignored.
-  void only_attributes(const XMLElement* e, std::initializer_list<std::string_view> known) const {
-    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
-      bool ok = false;
-      for (auto k : known)
-        ok = ok || k == a->Name();
-      if (!ok) {
-        std::string list;
-        for (auto k : known)
-          list += (list.empty() ? "" : ", ") + std::string(k);
-        fail(e, std::string("<") + e->Name() + "> has an unknown attribute '" + a->Name() +
-                    "' (known: " + (list.empty() ? "none" : list) + ")");
-      }
-    }
-  }
-
-  const char* required(const XMLElement* e, const char* name) const {
-    const char* v = e->Attribute(name);
-    if (!v)
-      fail(e, std::string("<") + e->Name() + "> needs the attribute '" + name + "'");
-    return v;
-  }
+  using StrictXml::fail;
+  using StrictXml::StrictXml;
 
   // A number with an optional unit suffix. `units` maps suffix -> factor into internal units;
   // the first entry is the default unit (empty suffix).
@@ -150,11 +125,6 @@ class Reader {
     }
     return c;
   }
-
-  const std::string& source() const { return source_; }
-
- private:
-  std::string source_;
 };
 
 JointType parse_type(const Reader& r, const XMLElement* e) {
@@ -354,30 +324,7 @@ Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_conven
 Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
   Reader r(source_name);
   tinyxml2::XMLDocument doc;
-  if (xml_text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw Error(ErrorCode::bad_input, "empty file: no <cell> element", {source_name});
-  }
-  if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS) {
-    // tinyxml2 names the error XML_ERROR_MISMATCHED_ELEMENT etc. and appends its own
-    // "Line number=N: detail"; keep the name in words and the detail.
-    std::string what = doc.ErrorName();
-    if (what.rfind("XML_ERROR_", 0) == 0)
-      what = what.substr(10);
-    for (char& c : what)
-      c = c == '_' ? ' ' : static_cast<char>(std::tolower(c));
-    const std::string full = doc.ErrorStr() ? doc.ErrorStr() : "";
-    const size_t detail = full.find(": ", full.find("Line number="));
-    if (detail != std::string::npos)
-      what += " (" + full.substr(detail + 2) + ")";
-    throw Error(ErrorCode::bad_input, "not well-formed XML: " + what,
-                SourceLocation{source_name, doc.ErrorLineNum(), 0});
-  }
-  const XMLElement* root = doc.RootElement();
-  if (!root)
-    throw Error(ErrorCode::bad_input, "empty file: no <cell> element", {source_name});
-  if (std::string(root->Name()) != "cell") {
-    r.fail(root, std::string("the root element is <") + root->Name() + ">, expected <cell>");
-  }
+  const XMLElement* root = r.parse(doc, xml_text, "cell");
   r.only_attributes(root, {"name", "format", "dh"});
   if (const char* f = root->Attribute("format"); f && std::string(f) != "1") {
     r.fail(root, std::string("unsupported cell format \"") + f + "\" (this redpost reads 1)");

@@ -39,7 +39,6 @@ constexpr double kMaxMagnitude = 1e7;
 constexpr double kMinAxisNorm = 1e-6;  // NX prints axes with 7 decimals
 constexpr std::size_t kBatch = 64;     // events per refill from an arc, NURBS or cycle generator
 constexpr double kMaxChords = 1e8;     // more chords than this is a tolerance typo
-constexpr double kTwoPi = 6.283185307179586;
 
 bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\v' || c == '\f';
@@ -795,54 +794,23 @@ struct ClReader::Impl {
 
   void start_arc(const Vector3d& end, const Vector3d& tool_axis) {
     arc_pending = false;
-    const Vector3d& n = arc_axis;
-    const Vector3d rs = pos - arc_centre;
-    const Vector3d re = end - arc_centre;
-    const double h0 = rs.dot(n);
-    const double h1 = re.dot(n);
-    const Vector3d us = rs - h0 * n;
-    const Vector3d ue = re - h1 * n;
-    const double r0 = us.norm();
-    const double r1 = ue.norm();
-    const double tol = opt.point_match_tolerance_mm;
-    if (!(r0 > 1e-9))
-      fail_line(arc_line, "the arc's start point lies on the circle's axis (radius 0)");
-    if (arc_has_radius && std::fabs(arc_radius_mm - r0) > tol) {
-      throw Error(ErrorCode::bad_input,
-                  "the arc starts " + fmt_mm(r0) +
-                      " mm from the circle's axis, but CIRCLE gives "
-                      "the radius " +
-                      fmt_mm(arc_radius_mm) + " mm (tolerance " + fmt_mm(tol) + " mm)",
-                  SourceLocation{source, arc_line, 0});
+    detail::ArcWording wording;
+    wording.circle = "the circle of the CIRCLE at line " + std::to_string(arc_line);
+    detail::ArcBuild built = detail::make_arc_chords(
+        pos, arc_centre, arc_axis, arc_has_radius ? arc_radius_mm : 0.0, end,
+        opt.point_match_tolerance_mm, opt.chordal_tolerance_mm, wording);
+    switch (built.problem) {
+      case detail::ArcProblem::none:
+        break;
+      case detail::ArcProblem::end_off_circle:
+        // The GOTO is the culprit: point at its values.
+        fail_at(fields[0].offset, built.message);
+      case detail::ArcProblem::start_on_axis:
+      case detail::ArcProblem::start_off_radius:
+      case detail::ArcProblem::too_many_chords:
+        fail_line(arc_line, built.message);
     }
-    if (std::fabs(r1 - r0) > tol) {
-      fail_at(fields[0].offset, "the arc's end point is not on the circle of the CIRCLE at line " +
-                                    std::to_string(arc_line) + ": it lies " + fmt_mm(r1) +
-                                    " mm from the axis, the radius is " + fmt_mm(r0) +
-                                    " mm (tolerance " + fmt_mm(tol) + " mm)");
-    }
-    // A GOTO back to the start direction closes a full turn (APT's way to write a circle).
-    double sweep = kTwoPi;
-    if ((ue / r1 - us / r0).norm() > 1e-12) {
-      sweep = std::atan2(n.dot(us.cross(ue)), us.dot(ue));
-      if (sweep <= 0.0)
-        sweep += kTwoPi;
-    }
-    const double chords =
-        detail::arc_chord_count(sweep, std::max(r0, r1), opt.chordal_tolerance_mm);
-    if (chords > kMaxChords)
-      fail_line(arc_line, "this arc needs more than 1e8 chords: raise the chordal tolerance");
-    arc.centre = arc_centre;
-    arc.axis = n;
-    arc.u = us / r0;
-    arc.v = n.cross(arc.u);
-    arc.end = end;
-    arc.r0 = r0;
-    arc.r1 = r1;
-    arc.h0 = h0;
-    arc.h1 = h1;
-    arc.sweep_rad = sweep;
-    arc.chords = static_cast<long>(chords);
+    arc = built.arc;
     arc_done = 0;
     gen_axis = tool_axis;
     arc_end_axis = axis;

@@ -17,6 +17,7 @@
 #include "krl_format.hpp"
 #include "redpost/error.hpp"
 #include "redpost/text_file.hpp"
+#include "strict_xml.hpp"
 
 namespace redpost {
 
@@ -216,38 +217,9 @@ namespace {
 using tinyxml2::XMLElement;
 using tinyxml2::XMLNode;
 
-class Reader {
+class Reader : public detail::StrictXml {
  public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(int line, const std::string& what) const {
-    throw Error(ErrorCode::bad_input, what, SourceLocation{source_, line, 0});
-  }
-  [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
-    fail(e ? e->GetLineNum() : 0, what);
-  }
-
-  void only_attributes(const XMLElement* e, std::initializer_list<std::string_view> known) const {
-    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
-      bool ok = false;
-      for (auto k : known)
-        ok = ok || k == a->Name();
-      if (!ok) {
-        std::string list;
-        for (auto k : known)
-          list += (list.empty() ? "" : ", ") + std::string(k);
-        fail(e, std::string("<") + e->Name() + "> has an unknown attribute '" + a->Name() +
-                    "' (known: " + (list.empty() ? "none" : list) + ")");
-      }
-    }
-  }
-
-  const char* required(const XMLElement* e, const char* name) const {
-    const char* v = e->Attribute(name);
-    if (!v)
-      fail(e, std::string("<") + e->Name() + "> needs the attribute '" + name + "'");
-    return v;
-  }
+  using StrictXml::StrictXml;
 
   int integer(const XMLElement* e, const char* attr, int lo, int hi) const {
     const std::string text = required(e, attr);
@@ -285,11 +257,6 @@ class Reader {
     }
     return out;
   }
-
-  const std::string& source() const { return source_; }
-
- private:
-  std::string source_;
 };
 
 std::string join_names(krl::PhMask allowed) {
@@ -415,30 +382,7 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
 KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::string& source_name) {
   Reader r(source_name);
   tinyxml2::XMLDocument doc;
-  if (xml_text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw Error(ErrorCode::bad_input, "empty file: no <krl-templates> element", {source_name});
-  }
-  if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS) {
-    std::string what = doc.ErrorName();
-    if (what.rfind("XML_ERROR_", 0) == 0)
-      what = what.substr(10);
-    for (char& ch : what)
-      ch = ch == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    const std::string full = doc.ErrorStr() ? doc.ErrorStr() : "";
-    const size_t detail = full.find(": ", full.find("Line number="));
-    if (detail != std::string::npos)
-      what += " (" + full.substr(detail + 2) + ")";
-    throw Error(ErrorCode::bad_input, "not well-formed XML: " + what,
-                SourceLocation{source_name, doc.ErrorLineNum(), 0});
-  }
-  const XMLElement* root = doc.RootElement();
-  if (!root) {
-    throw Error(ErrorCode::bad_input, "empty file: no <krl-templates> element", {source_name});
-  }
-  if (std::string(root->Name()) != "krl-templates") {
-    r.fail(root,
-           std::string("the root element is <") + root->Name() + ">, expected <krl-templates>");
-  }
+  const XMLElement* root = r.parse(doc, xml_text, "krl-templates");
   r.only_attributes(root, {"name", "format"});
   const std::string format = r.required(root, "format");
   if (format != "1") {

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "arc_chords.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"
 #include "redpost/status_turn.hpp"
@@ -100,6 +101,9 @@ struct PostSession::Impl {
   double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
   bool feed_warned = false;
   TcpTarget last_target;
+  // The last move's point and tool axis in CL coordinates: the start of a circular move.
+  Eigen::Vector3d last_cl_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_cl_axis = Eigen::Vector3d::UnitZ();
   PoseResult last;
   KinematicsData data;
   JointVector q_physical;
@@ -273,6 +277,7 @@ struct PostSession::Impl {
       record(r, cl_line);
       emit(KrlMotionKind::ptp_axes, r.q, cl_line);
       last_target = target;
+      remember_cl(p_mm, axis);
       return;
     }
     if (!rapid) {
@@ -324,6 +329,49 @@ struct PostSession::Impl {
     }
     emit(rapid ? KrlMotionKind::rapid : KrlMotionKind::lin, tracker.q(), cl_line);
     last_target = target;
+    remember_cl(p_mm, axis);
+  }
+
+  void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis) {
+    last_cl_point = p_mm;
+    last_cl_axis = axis.normalized();
+  }
+
+  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line) {
+    const SourceLocation at{o.source_name, cl_line, 0};
+    if (!centre.allFinite() || !axis.allFinite() || !std::isfinite(radius_mm) ||
+        !p_mm.allFinite() || !tool_axis.allFinite()) {
+      throw Error(ErrorCode::bad_input,
+                  "a circular move with a coordinate that is not a finite number", at);
+    }
+    const double norm = axis.norm();
+    if (!(norm > 1e-9))
+      throw Error(ErrorCode::bad_input, "a circular move with an axis of zero length", at);
+    if (radius_mm < 0.0) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("a circular move with a negative radius {} mm", radius_mm), at);
+    }
+    if (!(tool_axis.norm() > 1e-9))
+      throw Error(ErrorCode::bad_input, "a move with a tool axis of zero length", at);
+    if (!started) {
+      throw Error(ErrorCode::bad_input,
+                  "a circular move needs a start point, but no move came before it", at);
+    }
+    detail::ArcWording wording;
+    wording.radius_from = "the circular move";
+    const detail::ArcBuild built =
+        detail::make_arc_chords(last_cl_point, centre, axis / norm, radius_mm, p_mm,
+                                o.arc_point_tolerance_mm, o.chordal_tolerance_mm, wording);
+    if (built.problem != detail::ArcProblem::none)
+      throw Error(ErrorCode::bad_input, built.message, at);
+    // Every chord of a rapid arc is rapid, as the reader marks them.
+    const bool rapid = next_rapid;
+    const Eigen::Vector3d chord_axis = last_cl_axis;
+    for (long k = 1; k <= built.arc.chords; ++k) {
+      next_rapid = rapid;
+      move(built.arc.point(k), k == built.arc.chords ? tool_axis : chord_axis, cl_line);
+    }
   }
 };
 
@@ -401,6 +449,12 @@ void PostSession::rapid() {
 
 void PostSession::move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line) {
   impl_->move(p_mm, tool_axis, cl_line);
+}
+
+void PostSession::circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                                double radius_mm, const Eigen::Vector3d& p_mm,
+                                const Eigen::Vector3d& tool_axis, int cl_line) {
+  impl_->circular_move(centre, axis, radius_mm, p_mm, tool_axis, cl_line);
 }
 
 void PostSession::coolant(bool on, const std::string& mode) {

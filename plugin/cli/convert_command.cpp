@@ -1,27 +1,28 @@
-// `redpost convert`: a CL file (APT/CLDATA or NX CLSF) in, a KRL program out.
+// `redpost convert`: a CL file (APT/CLDATA or NX CLSF) in, a KRL program out, through the C ABI
+// (redpost.h) like every other host, so that the command and the other hosts cannot drift apart.
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
 #include "commands.hpp"
-#include "definitions.hpp"
-#include "redpost/cell_xml.hpp"
-#include "redpost/cl_reader.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/error.hpp"
-#include "redpost/krl_template.hpp"
-#include "redpost/kuka_abc.hpp"
-#include "redpost/post_session.hpp"
-#include "redpost/text_file.hpp"
+#include "redpost.h"
 
 namespace redpost::cli {
 
 namespace {
+
+// A command-line argument the ABI never sees (the --placement text), reported as bad input.
+struct BadArgument {
+  std::string message;
+};
 
 struct ConvertOptions {
   std::string input;
@@ -55,8 +56,10 @@ std::string program_name_from(const std::string& path) {
   return out;
 }
 
-Isometry parse_placement(const std::string& text) {
-  double v[6];
+// "x,y,z,a,b,c" -> six numbers (mm, deg).
+void parse_placement(const std::string& text, double v[6]) {
+  const std::string message =
+      "redpost: --placement takes six numbers x,y,z,a,b,c (mm and deg), got '" + text + "'";
   int n = 0;
   size_t i = 0;
   while (i <= text.size() && n < 7) {
@@ -64,99 +67,127 @@ Isometry parse_placement(const std::string& text) {
     const std::string token = text.substr(i, j == std::string::npos ? std::string::npos : j - i);
     char* end = nullptr;
     const double x = std::strtod(token.c_str(), &end);
-    if (token.empty() || end == token.c_str() || *end != '\0' || !std::isfinite(x) || n == 6) {
-      throw Error(ErrorCode::bad_input,
-                  "--placement takes six numbers x,y,z,a,b,c (mm and deg), got '" + text + "'");
-    }
+    if (token.empty() || end == token.c_str() || *end != '\0' || !std::isfinite(x) || n == 6)
+      throw BadArgument{message};
     v[n++] = x;
     if (j == std::string::npos)
       break;
     i = j + 1;
   }
-  if (n != 6) {
-    throw Error(ErrorCode::bad_input,
-                "--placement takes six numbers x,y,z,a,b,c (mm and deg), got '" + text + "'");
-  }
-  return frame_from_xyzabc(v[0], v[1], v[2], KukaAbc{v[3], v[4], v[5]});
+  if (n != 6)
+    throw BadArgument{message};
 }
 
-// Values as the robot programmer reads them: controller units for mapped joints (A2 -90 deg),
-// DH degrees or mm otherwise.
-std::string joint_value_text(const Joint& j, double v) {
-  const double shown = j.axis.mapped()                  ? to_axis_value(j, v)
-                       : j.type == JointType::prismatic ? v
-                                                        : rad_to_deg(v);
-  return fmt::format(j.type == JointType::prismatic ? "{:.1f} mm" : "{:.2f} deg", shown);
+// Values as the robot programmer reads them: the ABI gives controller units for mapped joints
+// (A2 -90 deg), DH degrees or mm otherwise, with the ends already in controller order.
+std::string joint_value_text(const rp_joint_range_info& j, double v) {
+  return fmt::format(j.prismatic ? "{:.1f} mm" : "{:.2f} deg", v);
 }
 
-// A distance (a margin), in the joint's unit.
-std::string joint_distance_text(const Joint& j, double d) {
-  return j.type == JointType::prismatic ? fmt::format("{:.1f} mm", d)
-                                        : fmt::format("{:.2f} deg", rad_to_deg(d));
-}
-
-void print_summary(const Cell& cell, const PostSummary& s, double seconds) {
+void print_summary(const rp_session* session, double seconds) {
+  rp_summary s{};
+  rp_summary_get(session, &s);
   fmt::print("poses {} (motions written {}), {:.2f} s, {:.0f} poses/s\n", s.poses, s.motions,
              seconds, seconds > 0 ? s.poses / seconds : 0.0);
   fmt::print("lowest 1/kappa_F of the arm: {:.3f} (CL line {})\n", s.lowest_inv_condition,
              s.lowest_inv_condition_line);
   fmt::print("{:<12} {:>6} {:>26} {:>26}\n", "joint", "axis", "range used",
              "smallest margin (low/high)");
-  for (int i = 0; i < cell.size(); ++i) {
-    const Joint& j = cell.joint(i);
-    const JointRange& r = s.joints[static_cast<size_t>(i)];
-    // A negative sign swaps the ends of the range in controller units.
-    std::string lo = joint_value_text(j, r.lowest), hi = joint_value_text(j, r.highest);
-    std::string m_lo = joint_distance_text(j, r.margin_lower),
-                m_hi = joint_distance_text(j, r.margin_upper);
-    if (j.axis.mapped() && j.axis.sign < 0) {
-      std::swap(lo, hi);
-      std::swap(m_lo, m_hi);
-    }
-    fmt::print("{:<12} {:>6} {:>26} {:>26}\n", j.name, axis_name(j.axis), lo + " .. " + hi,
-               m_lo + " / " + m_hi);
+  rp_joint_range_info r{};
+  for (int i = 0; rp_joint_range(session, i, &r) == RP_OK; ++i) {
+    fmt::print("{:<12} {:>6} {:>26} {:>26}\n", r.name, r.axis_name,
+               joint_value_text(r, r.lowest) + " .. " + joint_value_text(r, r.highest),
+               joint_value_text(r, r.margin_lower) + " / " + joint_value_text(r, r.margin_upper));
   }
-  for (const std::string& f : s.files)
+  for (int i = 0; const char* f = rp_output_file(session, i); ++i)
     fmt::print("wrote {}\n", f);
+}
+
+// Both handles are released on every path (rp_free of an unclosed session removes its
+// temporary files).
+struct Handles {
+  rp_reader* reader = nullptr;
+  rp_session* session = nullptr;
+  ~Handles() {
+    rp_reader_free(reader);
+    rp_free(session);
+  }
+};
+
+// The session's messages start with the event number ("event 1204: part.apt:1180: ..."), which
+// helps a host that makes its own events; here the file and line say more, and the messages
+// stay those the command always printed.
+std::string without_event_number(const char* message) {
+  const std::string m = message;
+  const std::string prefix = "event ";
+  if (m.compare(0, prefix.size(), prefix) != 0)
+    return m;
+  size_t i = prefix.size();
+  while (i < m.size() && std::isdigit(static_cast<unsigned char>(m[i])))
+    ++i;
+  return i > prefix.size() && m.compare(i, 2, ": ") == 0 ? m.substr(i + 2) : m;
+}
+
+// "redpost: message" and the exit code of the status: 2 for what the user can fix, 3 for a bug.
+int report(rp_status status, const std::string& message) {
+  if (status == RP_ERR_INTERNAL) {
+    fmt::print(stderr, "redpost: internal error: {}\n", message);
+    return 3;
+  }
+  fmt::print(stderr, "redpost: {}\n", message);
+  return kExitBadInput;
 }
 
 int run_convert(const ConvertOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Cell cell = load_cell(opt.cell_path);
-  const KrlTemplateSet templates =
-      load_krl_templates(opt.krl_path.empty() ? default_krl_template() : opt.krl_path);
-
-  PostOptions post;
-  post.program.name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
-  post.program.output_dir = opt.output_dir;
-  post.program.base = opt.base;
-  post.program.tool = opt.tool;
-  post.program.apo_mm = opt.apo_mm;
-  post.program.motions_per_file = opt.split;
-  post.program.cl_line_every = opt.cl_line_every;
-  post.program.header_comment = fmt::format("redpost 0.1.0, cell {}, from {}", cell.name,
-                                            std::filesystem::path(opt.input).filename().string());
-  post.source_name = opt.input;
-  post.joints_csv_path = opt.joints_csv;
+  double placement[6] = {0, 0, 0, 0, 0, 0};
   if (!opt.placement.empty())
-    post.T_B_part = parse_placement(opt.placement);
+    parse_placement(opt.placement, placement);
 
-  std::ifstream in = open_text_stream(opt.input);
-  ClReaderOptions reader_options;
-  reader_options.chordal_tolerance_mm = opt.chordal_tolerance_mm;
-  ClReader reader(in, opt.input, reader_options);
-  PostSession session(cell, templates, post);
+  const std::string name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
+  rp_options o;
+  rp_options_init(&o);
+  o.cell_path = opt.cell_path.c_str();
+  o.krl_path = opt.krl_path.empty() ? nullptr : opt.krl_path.c_str();
+  o.output_dir = opt.output_dir.c_str();
+  o.program_name = name.c_str();
+  o.joints_csv_path = opt.joints_csv.empty() ? nullptr : opt.joints_csv.c_str();
+  o.source_name = opt.input.c_str();
+  o.base = opt.base.c_str();
+  o.tool = opt.tool.c_str();
+  o.has_placement = opt.placement.empty() ? 0 : 1;
+  std::copy(placement, placement + 6, o.placement);
+  o.apo_mm = opt.apo_mm;
+  o.motions_per_file = opt.split;
+  o.cl_line_every = opt.cl_line_every;
+  o.chordal_tolerance_mm = opt.chordal_tolerance_mm;
+
+  Handles h;
+  if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
+    return report(st, rp_last_error(nullptr));
+  if (const rp_status st = rp_reader_open(opt.input.c_str(), opt.chordal_tolerance_mm, &h.reader);
+      st != RP_OK) {
+    return report(st, rp_last_error(nullptr));
+  }
 
   const bool progress = !opt.quiet && ::isatty(STDERR_FILENO) == 1;
   auto last_report = std::chrono::steady_clock::now();
-  ClEvent event;
+  rp_event event;
   long events = 0;
-  while (reader.next(event)) {
-    session.handle(event);
+  for (;;) {
+    int more = 0;
+    if (const rp_status st = rp_reader_next(h.reader, &event, &more); st != RP_OK)
+      return report(st, rp_reader_last_error(h.reader));
+    if (!more)
+      break;
+    if (const rp_status st = rp_session_event(h.session, &event); st != RP_OK)
+      return report(st, without_event_number(rp_last_error(h.session)));
     if (progress && (++events & 1023) == 0) {
       const auto now = std::chrono::steady_clock::now();
       if (now - last_report > std::chrono::milliseconds(500)) {
-        fmt::print(stderr, "\r{} poses, CL line {}   ", session.summary().poses, event.line);
+        rp_summary s{};
+        rp_summary_get(h.session, &s);
+        fmt::print(stderr, "\r{} poses, CL line {}   ", s.poses, event.line);
         std::fflush(stderr);
         last_report = now;
       }
@@ -164,15 +195,16 @@ int run_convert(const ConvertOptions& opt) {
   }
   if (progress)
     fmt::print(stderr, "\r{:40}\r", "");
-  for (const std::string& w : reader.warnings())
+  for (int i = 0; const char* w = rp_reader_warning(h.reader, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
-  const PostSummary& summary = session.finish();
-  for (const std::string& w : summary.warnings)
+  if (const rp_status st = rp_close(h.session); st != RP_OK)
+    return report(st, rp_last_error(h.session));
+  for (int i = 0; const char* w = rp_warning(h.session, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!opt.quiet)
-    print_summary(cell, summary, seconds);
+    print_summary(h.session, seconds);
   return kExitOk;
 }
 
@@ -201,7 +233,14 @@ Runner add_convert_command(CLI::App& app) {
   c->add_option("--chordal-tol", opt->chordal_tolerance_mm,
                 "Chordal tolerance for arcs and NURBS in mm (default 0.01)");
   c->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
-  return [opt] { return run_convert(*opt); };
+  return [opt] {
+    try {
+      return run_convert(*opt);
+    } catch (const BadArgument& e) {
+      fmt::print(stderr, "{}\n", e.message);
+      return kExitBadInput;
+    }
+  };
 }
 
 }  // namespace redpost::cli

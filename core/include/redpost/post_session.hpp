@@ -33,6 +33,11 @@ struct PostOptions {
   // redundancy is resolved continuously along them; only the end point is written.
   double max_step_mm = 5.0;
   double max_step_axis_deg = 2.0;
+  // Circular moves (circular_move) are split into chords straying at most this far from the arc
+  // (mm), like the CL reader's CIRCLE; their ends must lie on one circle within
+  // arc_point_tolerance_mm.
+  double chordal_tolerance_mm = 0.01;
+  double arc_point_tolerance_mm = 0.005;
   // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
   double default_feed_mm_per_min = 1000.0;
   // Name of the CL source, for messages ("part.apt").
@@ -71,6 +76,13 @@ class PostSession {
   void feed(double mm_per_min);
   void rapid();  // the next move is a rapid traverse
   void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  // An arc from the last move's CL point to p_mm about the axis through `centre`, turning by the
+  // right-hand rule (a helix if the height along the axis changes), written as the moves of its
+  // chords within PostOptions::chordal_tolerance_mm. radius_mm > 0 is checked against the start;
+  // 0: taken from the start. The chords keep the previous tool axis, the last one takes
+  // `tool_axis`, as the CL reader does for CIRCLE.
+  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
   void coolant(bool on, const std::string& mode);
   void operation_start(const std::string& name);
   void operation_end();

@@ -1,0 +1,221 @@
+/* redpost.h: the C ABI of libredpost, the one boundary every host uses (the redpost command,
+ * the Tcl package and NX event handlers, any C/C++/Python host).
+ *
+ * A session turns the events of a toolpath into a KUKA KRL program: open it with the cell, the
+ * template set, the output directory and the program name; send the events in order; close it,
+ * which writes the program and renames the files into place. The same events give the same bytes
+ * whichever host sends them.
+ *
+ * Rules:
+ * - Every call returns an rp_status. RP_OK is 0. On any other status, rp_last_error(session)
+ *   gives the message, with the event index ("event 1204: part.apt:1180: pose ... unreachable").
+ *   No C++ exception ever crosses this boundary.
+ * - A NULL session is RP_ERR_NULL. Events before rp_open succeeded or after rp_close are
+ *   RP_ERR_STATE. After an error inside an event the session is failed: later events return
+ *   RP_ERR_STATE, and closing it writes nothing (it removes every temporary file).
+ * - rp_free releases a session (open, closed or failed). Using a session after rp_free is
+ *   undefined, like any use after free.
+ * - Threads: a session must be used by one thread at a time. Different sessions on different
+ *   threads are independent and may run concurrently. rp_last_error(NULL) is per thread.
+ * - Units: mm, degrees for placement angles, mm/min for feeds, rpm. Coordinates are in the CL
+ *   (workpiece) frame; tool axes point from the tool tip towards the spindle.
+ *
+ * The header compiles as C99 and as C++.
+ */
+#ifndef REDPOST_H
+#define REDPOST_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define REDPOST_VERSION_MAJOR 0
+#define REDPOST_VERSION_MINOR 1
+#define REDPOST_VERSION_PATCH 0
+#define REDPOST_VERSION "0.1.0"
+
+#if defined(REDPOST_BUILDING_LIBRARY)
+#define RP_API __attribute__((visibility("default")))
+#else
+#define RP_API
+#endif
+
+typedef enum rp_status {
+  RP_OK = 0,
+  RP_ERR_BAD_INPUT = 1,   /* a malformed value, file contents, NaN, a zero tool axis */
+  RP_ERR_IO = 2,          /* a file that cannot be read or written */
+  RP_ERR_UNREACHABLE = 3, /* a pose the cell cannot reach (or a joint jump) */
+  RP_ERR_JOINT_LIMIT = 4, /* a pose only reachable beyond a joint limit */
+  RP_ERR_STATE = 5,       /* a call out of order: before open, after close, after a failure */
+  RP_ERR_NULL = 6,        /* a NULL session or a NULL required argument */
+  RP_ERR_INTERNAL = 7     /* a bug in redpost */
+} rp_status;
+
+typedef struct rp_session rp_session;
+
+typedef struct rp_options {
+  unsigned struct_size;        /* sizeof(rp_options), set by rp_options_init */
+  const char* cell_path;       /* required: the cell definition (XML) */
+  const char* krl_path;        /* template set; NULL: the shipped krc4_lin */
+  const char* output_dir;      /* required, must exist */
+  const char* program_name;    /* required: KRL identifier, at most 24 characters */
+  const char* joints_csv_path; /* NULL: none */
+  const char* source_name;     /* name used in messages, e.g. the CL file; NULL: "<events>" */
+  const char* base;            /* right-hand side of $BASE =; NULL: "BASE_DATA[1]" */
+  const char* tool;            /* right-hand side of $TOOL =; NULL: "TOOL_DATA[1]" */
+  int has_placement;           /* 1: placement is used */
+  double placement[6];         /* x, y, z (mm), a, b, c (deg): the CL frame in the cell's {B} */
+  double apo_mm;               /* $APO.CDIS; default 0.5 */
+  int motions_per_file;        /* 0: no splitting */
+  int cl_line_every;           /* a CL line comment every N motions; default 50 */
+  double chordal_tolerance_mm; /* for circular moves; default 0.01 */
+} rp_options;
+
+typedef enum rp_spindle_direction {
+  RP_SPINDLE_OFF = 0,
+  RP_SPINDLE_CW = 1,
+  RP_SPINDLE_CCW = 2
+} rp_spindle_direction;
+
+/* Diagnostics of the last tracked pose. */
+typedef struct rp_move_info {
+  int joint_count;
+  double joints[16];    /* DH units: rad and mm, chain order, the virtual joint included */
+  double axes[12];      /* controller values A1..A6, E1..E6 (deg, mm); NaN if not mapped */
+  double inv_condition; /* 1/kappa_F of the arm */
+  int iterations;
+  double position_error_mm;
+  double orientation_error_rad;
+  double limit_margin; /* smallest distance to a limit, fraction of that joint's range */
+} rp_move_info;
+
+typedef struct rp_summary {
+  long poses;   /* postures tracked */
+  long motions; /* motions written */
+  double lowest_inv_condition;
+  int lowest_inv_condition_line;
+  int warnings; /* number of warnings (see rp_warning) */
+} rp_summary;
+
+/* The library's version, e.g. "0.1.0". */
+RP_API const char* rp_version(void);
+
+/* Fills *options with the defaults. Call before setting fields. */
+RP_API void rp_options_init(rp_options* options);
+
+/* Opens a session. On failure *session is set to NULL and rp_last_error(NULL) says why. */
+RP_API rp_status rp_open(const rp_options* options, rp_session** session);
+
+/* The line (or event index) of the events that follow, for messages and the joints log. The
+ * session counts events itself; hosts that read a file set the file's line. */
+RP_API rp_status rp_set_line(rp_session* session, int line);
+
+RP_API rp_status rp_tool_change(rp_session* session, int number, const char* name,
+                                double diameter_mm, double length_mm);
+RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_direction direction);
+RP_API rp_status rp_feed(rp_session* session, double mm_per_min);
+/* The next move is a rapid traverse. */
+RP_API rp_status rp_rapid(rp_session* session);
+/* A straight move to (x, y, z) with the tool axis (i, j, k) (normalised here; zero refused). */
+RP_API rp_status rp_linear_move(rp_session* session, double x, double y, double z, double i,
+                                double j, double k);
+/* An arc from the current point to (x, y, z) about the axis (ax, ay, az) through the centre
+ * (cx, cy, cz), turning by the right-hand rule about the axis (as APT's CIRCLE followed by its
+ * GOTO), with the tool axis (i, j, k) at the end. radius_mm 0: taken from the start point. A
+ * change of height along the axis makes a helix. Linearised within the chordal tolerance. */
+RP_API rp_status rp_circular_move(rp_session* session, double cx, double cy, double cz, double ax,
+                                  double ay, double az, double radius_mm, double x, double y,
+                                  double z, double i, double j, double k);
+RP_API rp_status rp_operation_start(rp_session* session, const char* name);
+RP_API rp_status rp_operation_end(rp_session* session);
+RP_API rp_status rp_coolant(rp_session* session, int on, const char* mode);
+/* A comment in the program (sanitised to one line). */
+RP_API rp_status rp_comment(rp_session* session, const char* text);
+/* A literal line passed to the program as it is. */
+RP_API rp_status rp_literal(rp_session* session, const char* text);
+
+/* Writes the program and renames the files into place. The session stays allocated, closed. */
+RP_API rp_status rp_close(rp_session* session);
+/* Releases the session. A session that was not closed is abandoned: nothing is written. */
+RP_API void rp_free(rp_session* session);
+
+/* The message of the last error of this session, or of this thread's last rp_open when
+ * session is NULL. Never NULL; "" when there was none. Valid until the next call on it. */
+RP_API const char* rp_last_error(const rp_session* session);
+
+RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info);
+RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary);
+/* The range a joint used over the poses tracked so far, as `redpost convert` prints it. */
+typedef struct rp_joint_range_info {
+  const char* name;      /* the joint's name in the cell; valid while the session lives */
+  const char* axis_name; /* "A1".."A6", "E1".."E6", or "none" (a static string) */
+  int prismatic;         /* 1: values in mm; 0: in degrees */
+  /* Lowest and highest value used, in controller units (deg, mm) where the joint has an axis
+   * (a negative sign swaps the ends), DH degrees or mm otherwise; +inf/-inf before any pose. */
+  double lowest, highest;
+  /* Smallest distance to the limit at the lowest / highest end, in the same units. */
+  double margin_lower, margin_upper;
+} rp_joint_range_info;
+
+/* Joint number index (0-based, chain order, the virtual joint included) of the session's cell.
+ * RP_ERR_BAD_INPUT past the last joint (a host may count the joints so). Added for the summary
+ * table of `redpost convert`. */
+RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_range_info* range);
+
+/* Warning number index (0-based) of the session, or NULL past the end. */
+RP_API const char* rp_warning(const rp_session* session, int index);
+/* The final path of written .src file number index (0: the main program), or NULL. */
+RP_API const char* rp_output_file(const rp_session* session, int index);
+
+/* --- Reading CL files (APT/CLDATA, NX CLSF), for hosts that replay a file -------------------- */
+
+typedef struct rp_reader rp_reader;
+
+typedef enum rp_event_kind {
+  RP_EVENT_PART_NAME = 0,
+  RP_EVENT_TOOL_CHANGE,
+  RP_EVENT_SPINDLE,
+  RP_EVENT_FEED,
+  RP_EVENT_RAPID,
+  RP_EVENT_MOVE,
+  RP_EVENT_COOLANT,
+  RP_EVENT_OPERATION_START,
+  RP_EVENT_OPERATION_END,
+  RP_EVENT_COMMENT,
+  RP_EVENT_LITERAL,
+  RP_EVENT_UNKNOWN_WORD,
+  RP_EVENT_END_OF_PROGRAM
+} rp_event_kind;
+
+typedef struct rp_event {
+  rp_event_kind kind;
+  int line;        /* line of the record in the CL file */
+  double p[3];     /* move: x, y, z (mm) */
+  double axis[3];  /* move: tool axis (unit) */
+  int rapid;       /* move: a rapid traverse */
+  int tool_number; /* tool change */
+  double tool_diameter_mm, tool_length_mm;
+  double value; /* spindle rpm, feed mm/min */
+  rp_spindle_direction direction;
+  int flag;         /* coolant on */
+  const char* text; /* names, comments, literals; valid until the next rp_reader_next */
+} rp_event;
+
+/* Opens a CL file. On failure *reader is NULL and rp_last_error(NULL) says why. */
+RP_API rp_status rp_reader_open(const char* path, double chordal_tolerance_mm, rp_reader** reader);
+/* The next event: RP_OK and *more = 1, or RP_OK and *more = 0 at the end; an error otherwise
+ * (rp_reader_last_error gives "file:line:column: ..."). */
+RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more);
+RP_API const char* rp_reader_last_error(const rp_reader* reader);
+/* Warning number index of the reader (unknown words), or NULL past the end. */
+RP_API const char* rp_reader_warning(const rp_reader* reader, int index);
+RP_API void rp_reader_free(rp_reader* reader);
+
+/* Sends one reader event to a session (what `redpost convert` does for every event). */
+RP_API rp_status rp_session_event(rp_session* session, const rp_event* event);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* REDPOST_H */

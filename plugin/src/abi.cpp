@@ -1,0 +1,730 @@
+// The C ABI (redpost.h) over redpost::core's PostSession and ClReader.
+//
+// Every rp_ function is a C function that must never let a C++ exception out: each body runs in
+// guard(), which turns Error into its rp_status and the message, and std::bad_alloc, any other
+// std::exception or anything else into RP_ERR_INTERNAL. A session is a small state machine
+// (open -> failed | closed) so that misuse gives RP_ERR_STATE instead of undefined behaviour.
+#include <dlfcn.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <new>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "redpost.h"
+#include "redpost/cell_xml.hpp"
+#include "redpost/cl_reader.hpp"
+#include "redpost/controller_axes.hpp"
+#include "redpost/error.hpp"
+#include "redpost/krl_template.hpp"
+#include "redpost/kuka_abc.hpp"
+#include "redpost/post_session.hpp"
+#include "redpost/text_file.hpp"
+
+namespace {
+
+using redpost::ErrorCode;
+
+// rp_last_error(NULL): the last failure of rp_open, rp_reader_open or a NULL handle, per thread
+// (hosts may open sessions on several threads at once).
+thread_local std::string t_error;
+
+rp_status status_of(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::bad_input:
+      return RP_ERR_BAD_INPUT;
+    case ErrorCode::io:
+      return RP_ERR_IO;
+    case ErrorCode::unreachable:
+      return RP_ERR_UNREACHABLE;
+    case ErrorCode::joint_limit:
+      return RP_ERR_JOINT_LIMIT;
+    case ErrorCode::internal:
+      return RP_ERR_INTERNAL;
+  }
+  return RP_ERR_INTERNAL;
+}
+
+// A failure the ABI itself detects (NULL argument, wrong state), carried like an Error.
+struct AbiError {
+  rp_status status;
+  std::string message;
+};
+
+// Runs f(), returning RP_OK, or the status of what it threw with `prefix` + message in `error`.
+template <class F>
+rp_status guard(std::string& error, const std::string& prefix, F&& f) noexcept {
+  try {
+    try {
+      f();
+      return RP_OK;
+    } catch (const AbiError& e) {
+      error = prefix + e.message;
+      return e.status;
+    } catch (const redpost::Error& e) {
+      error = prefix + e.what();
+      return status_of(e.code());
+    } catch (const std::bad_alloc&) {
+      error = prefix + "out of memory";
+      return RP_ERR_INTERNAL;
+    } catch (const std::exception& e) {
+      error = prefix + "internal error: " + e.what();
+      return RP_ERR_INTERNAL;
+    } catch (...) {
+      error = prefix + "internal error: an unknown exception";
+      return RP_ERR_INTERNAL;
+    }
+  } catch (...) {
+    // Building the message itself failed (out of memory): the status still gets through.
+    return RP_ERR_INTERNAL;
+  }
+}
+
+rp_status null_handle(const char* what) noexcept {
+  try {
+    t_error = std::string(what) + " is NULL";
+  } catch (...) {
+  }
+  return RP_ERR_NULL;
+}
+
+std::string required(const char* s, const char* what) {
+  if (!s)
+    throw AbiError{RP_ERR_NULL, std::string(what) + " is NULL"};
+  return s;
+}
+
+// The shipped definitions: those installed with this library (PREFIX/share/redpost/definitions)
+// when the library is the installed one, else next to a relocated install tree, else the source
+// tree's when the library runs from the build tree.
+std::string definitions_dir() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&rp_version), &info) != 0 && info.dli_fname) {
+    const fs::path lib_dir = fs::weakly_canonical(fs::path(info.dli_fname), ec).parent_path();
+#ifdef REDPOST_INSTALL_LIBDIR
+    const fs::path installed_lib = fs::weakly_canonical(REDPOST_INSTALL_LIBDIR, ec);
+    if (!ec && lib_dir == installed_lib && fs::is_directory(REDPOST_INSTALL_DEFINITIONS_DIR, ec))
+      return REDPOST_INSTALL_DEFINITIONS_DIR;
+#endif
+    // PREFIX/lib or PREFIX/lib/<multiarch>.
+    for (const fs::path& prefix : {lib_dir.parent_path(), lib_dir.parent_path().parent_path()}) {
+      const fs::path d = prefix / "share/redpost/definitions";
+      if (fs::is_directory(d, ec))
+        return d.string();
+    }
+  }
+  return REDPOST_SOURCE_DEFINITIONS_DIR;
+}
+
+Eigen::Vector3d vec(double x, double y, double z) {
+  return Eigen::Vector3d(x, y, z);
+}
+
+}  // namespace
+
+struct rp_session {
+  enum class State { open, failed, closed };
+
+  // The cell and templates outlive the PostSession, which holds references to them.
+  redpost::Cell cell;
+  redpost::KrlTemplateSet templates;
+  std::unique_ptr<redpost::PostSession> post;
+  State state = State::open;
+  long events = 0;  // events sent so far, refused ones included
+  bool line_set = false;
+  int line = 0;
+  std::string failure;  // the message of the event that failed the session
+  mutable std::string error;
+  // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
+  std::optional<redpost::PostSummary> summary_kept;
+  std::optional<redpost::PoseResult> pose_kept;
+
+  const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
+  const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
+
+  int current_line() const { return line_set ? line : static_cast<int>(events); }
+
+  // Dropping the PostSession removes its temporary files; the diagnostics are copied first.
+  void abandon() {
+    if (!post)
+      return;
+    summary_kept = post->summary();
+    pose_kept = post->last_pose();
+    post.reset();
+  }
+
+  // One event: counted, refused unless open, failing the session if it throws.
+  template <class F>
+  rp_status event(F&& f) noexcept {
+    ++events;
+    std::string prefix;
+    try {
+      prefix = "event " + std::to_string(events) + ": ";
+    } catch (...) {
+      return RP_ERR_INTERNAL;
+    }
+    const rp_status s = guard(error, prefix, [&] {
+      if (state == State::failed) {
+        throw AbiError{RP_ERR_STATE, "refused because the session failed at " + failure};
+      }
+      if (state == State::closed)
+        throw AbiError{RP_ERR_STATE, "refused because the session is closed"};
+      f();
+    });
+    if (s != RP_OK && state == State::open) {
+      state = State::failed;
+      try {
+        failure = error;
+      } catch (...) {
+      }
+    }
+    return s;
+  }
+};
+
+struct rp_reader {
+  std::ifstream in;
+  std::unique_ptr<redpost::ClReader> reader;
+  redpost::ClEvent event;
+  std::string error;
+};
+
+extern "C" {
+
+RP_API const char* rp_version(void) {
+  return REDPOST_VERSION;
+}
+
+RP_API void rp_options_init(rp_options* options) {
+  if (!options)
+    return;
+  std::memset(options, 0, sizeof *options);
+  options->struct_size = sizeof *options;
+  options->apo_mm = 0.5;
+  options->cl_line_every = 50;
+  options->chordal_tolerance_mm = 0.01;
+}
+
+RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
+  if (!session)
+    return null_handle("the session pointer");
+  *session = nullptr;
+  if (!options)
+    return null_handle("options");
+  std::unique_ptr<rp_session> s;
+  const rp_status st = guard(t_error, "", [&] {
+    // A host built against an older, shorter rp_options gets the defaults for the newer fields.
+    if (options->struct_size == 0 || options->struct_size > sizeof(rp_options)) {
+      throw AbiError{RP_ERR_BAD_INPUT, "options.struct_size is " +
+                                           std::to_string(options->struct_size) +
+                                           ": initialise the options with rp_options_init"};
+    }
+    rp_options o;
+    rp_options_init(&o);
+    std::memcpy(&o, options, options->struct_size);
+
+    const std::string cell_path = required(o.cell_path, "options.cell_path");
+    const std::string output_dir = required(o.output_dir, "options.output_dir");
+    const std::string name = required(o.program_name, "options.program_name");
+    if (!std::isfinite(o.chordal_tolerance_mm) || !(o.chordal_tolerance_mm > 0.0)) {
+      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the chordal tolerance must be > 0 mm, got {}",
+                                                   o.chordal_tolerance_mm)};
+    }
+
+    s = std::make_unique<rp_session>();
+    s->cell = redpost::load_cell(cell_path);
+    s->templates = redpost::load_krl_templates(
+        o.krl_path ? std::string(o.krl_path) : definitions_dir() + "/krl/krc4_lin.xml");
+
+    redpost::PostOptions post;
+    const std::string source = o.source_name ? o.source_name : "<events>";
+    post.program.name = name;
+    post.program.output_dir = output_dir;
+    if (o.base)
+      post.program.base = o.base;
+    if (o.tool)
+      post.program.tool = o.tool;
+    post.program.apo_mm = o.apo_mm;
+    post.program.motions_per_file = o.motions_per_file;
+    post.program.cl_line_every = o.cl_line_every;
+    post.program.header_comment =
+        fmt::format("redpost {}, cell {}, from {}", REDPOST_VERSION, s->cell.name,
+                    std::filesystem::path(source).filename().string());
+    post.source_name = source;
+    if (o.joints_csv_path)
+      post.joints_csv_path = o.joints_csv_path;
+    post.chordal_tolerance_mm = o.chordal_tolerance_mm;
+    if (o.has_placement) {
+      const double* p = o.placement;
+      for (int i = 0; i < 6; ++i) {
+        if (!std::isfinite(p[i]))
+          throw AbiError{RP_ERR_BAD_INPUT, "the placement has a value that is not a number"};
+      }
+      post.T_B_part =
+          redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
+    }
+    s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
+  });
+  if (st == RP_OK)
+    *session = s.release();
+  return st;
+}
+
+RP_API rp_status rp_set_line(rp_session* session, int line) {
+  if (!session)
+    return null_handle("the session");
+  session->line = line;
+  session->line_set = true;
+  return RP_OK;
+}
+
+RP_API rp_status rp_tool_change(rp_session* session, int number, const char* name,
+                                double diameter_mm, double length_mm) {
+  if (!session)
+    return null_handle("the session");
+  return session->event(
+      [&] { session->post->tool_change(number, name ? name : "", diameter_mm, length_mm); });
+}
+
+RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_direction direction) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] {
+    redpost::SpindleDirection d;
+    switch (direction) {
+      case RP_SPINDLE_OFF:
+        d = redpost::SpindleDirection::off;
+        break;
+      case RP_SPINDLE_CW:
+        d = redpost::SpindleDirection::clockwise;
+        break;
+      case RP_SPINDLE_CCW:
+        d = redpost::SpindleDirection::counter_clockwise;
+        break;
+      default:
+        throw AbiError{RP_ERR_BAD_INPUT, "spindle direction " +
+                                             std::to_string(static_cast<int>(direction)) +
+                                             " is not one of RP_SPINDLE_OFF, _CW, _CCW"};
+    }
+    session->post->spindle(rpm, d);
+  });
+}
+
+RP_API rp_status rp_feed(rp_session* session, double mm_per_min) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->feed(mm_per_min); });
+}
+
+RP_API rp_status rp_rapid(rp_session* session) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->rapid(); });
+}
+
+RP_API rp_status rp_linear_move(rp_session* session, double x, double y, double z, double i,
+                                double j, double k) {
+  if (!session)
+    return null_handle("the session");
+  return session->event(
+      [&] { session->post->move(vec(x, y, z), vec(i, j, k), session->current_line()); });
+}
+
+RP_API rp_status rp_circular_move(rp_session* session, double cx, double cy, double cz, double ax,
+                                  double ay, double az, double radius_mm, double x, double y,
+                                  double z, double i, double j, double k) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] {
+    session->post->circular_move(vec(cx, cy, cz), vec(ax, ay, az), radius_mm, vec(x, y, z),
+                                 vec(i, j, k), session->current_line());
+  });
+}
+
+RP_API rp_status rp_operation_start(rp_session* session, const char* name) {
+  if (!session)
+    return null_handle("the session");
+  return session->event(
+      [&] { session->post->operation_start(required(name, "the operation name")); });
+}
+
+RP_API rp_status rp_operation_end(rp_session* session) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->operation_end(); });
+}
+
+RP_API rp_status rp_coolant(rp_session* session, int on, const char* mode) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->coolant(on != 0, mode ? mode : ""); });
+}
+
+RP_API rp_status rp_comment(rp_session* session, const char* text) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->comment(required(text, "the comment")); });
+}
+
+RP_API rp_status rp_literal(rp_session* session, const char* text) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] { session->post->literal(required(text, "the literal")); });
+}
+
+RP_API rp_status rp_close(rp_session* session) {
+  if (!session)
+    return null_handle("the session");
+  using State = rp_session::State;
+  const rp_status s = guard(session->error, "", [&] {
+    if (session->state == State::closed)
+      throw AbiError{RP_ERR_STATE, "close refused: the session is already closed"};
+    if (session->state == State::failed) {
+      session->abandon();  // removes the temporary files: a failed session writes nothing
+      throw AbiError{RP_ERR_STATE,
+                     "close refused: nothing written, the session failed at " + session->failure};
+    }
+    session->post->finish();
+    session->state = State::closed;
+  });
+  if (s != RP_OK && session->state == State::open) {
+    // finish() failed (no move, a file that cannot be completed): nothing is left behind.
+    session->state = State::failed;
+    try {
+      session->failure = "close: " + session->error;
+      session->abandon();
+    } catch (...) {
+      session->post.reset();
+    }
+  }
+  return s;
+}
+
+RP_API void rp_free(rp_session* session) {
+  delete session;
+}
+
+RP_API const char* rp_last_error(const rp_session* session) {
+  return session ? session->error.c_str() : t_error.c_str();
+}
+
+RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!info)
+      throw AbiError{RP_ERR_NULL, "rp_last_move: info is NULL"};
+    const redpost::PoseResult& r = session->pose();
+    if (r.q.size() == 0)
+      throw AbiError{RP_ERR_STATE, "rp_last_move: no pose has been tracked yet"};
+    rp_move_info out{};
+    out.joint_count = static_cast<int>(r.q.size());
+    for (int i = 0; i < out.joint_count && i < 16; ++i)
+      out.joints[i] = r.q[i];
+    const redpost::AxisValues axes = redpost::to_controller_axes(session->cell, r.q);
+    for (int i = 0; i < 12; ++i)
+      out.axes[i] = axes.value[static_cast<std::size_t>(i)];
+    out.inv_condition = r.inv_condition;
+    out.iterations = r.iterations;
+    out.position_error_mm = r.position_error_mm;
+    out.orientation_error_rad = r.orientation_error_rad;
+    out.limit_margin = r.limit_margin;
+    *info = out;
+  });
+}
+
+RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!summary)
+      throw AbiError{RP_ERR_NULL, "rp_summary_get: summary is NULL"};
+    const redpost::PostSummary& s = session->summary();
+    summary->poses = s.poses;
+    summary->motions = s.motions;
+    summary->lowest_inv_condition = s.lowest_inv_condition;
+    summary->lowest_inv_condition_line = s.lowest_inv_condition_line;
+    summary->warnings = static_cast<int>(s.warnings.size());
+  });
+}
+
+RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_range_info* range) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!range)
+      throw AbiError{RP_ERR_NULL, "rp_joint_range: range is NULL"};
+    const redpost::PostSummary& s = session->summary();
+    if (index < 0 || index >= session->cell.size() ||
+        static_cast<std::size_t>(index) >= s.joints.size()) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_joint_range: the cell has no joint " +
+                                           std::to_string(index) + " (it has " +
+                                           std::to_string(session->cell.size()) + ")"};
+    }
+    const redpost::Joint& j = session->cell.joint(index);
+    const redpost::JointRange& r = s.joints[static_cast<std::size_t>(index)];
+    const bool prismatic = j.type == redpost::JointType::prismatic;
+    // Values as the robot programmer reads them (controller units where the joint has an axis);
+    // distances in deg or mm.
+    auto value = [&](double q) {
+      return j.axis.mapped() ? redpost::to_axis_value(j, q)
+             : prismatic     ? q
+                             : redpost::rad_to_deg(q);
+    };
+    auto distance = [&](double d) { return prismatic ? d : redpost::rad_to_deg(d); };
+    rp_joint_range_info out{};
+    out.name = j.name.c_str();
+    out.prismatic = prismatic ? 1 : 0;
+    out.lowest = value(r.lowest);
+    out.highest = value(r.highest);
+    out.margin_lower = distance(r.margin_lower);
+    out.margin_upper = distance(r.margin_upper);
+    // A negative sign swaps the ends of the range in controller units.
+    if (j.axis.mapped() && j.axis.sign < 0) {
+      std::swap(out.lowest, out.highest);
+      std::swap(out.margin_lower, out.margin_upper);
+    }
+    static const char* const kAxisNames[] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                                             "E1", "E2", "E3", "E4", "E5", "E6"};
+    // Static strings: the names stay valid whatever happens to the session.
+    const std::string a = redpost::axis_name(j.axis);
+    out.axis_name = "none";
+    for (const char* n : kAxisNames) {
+      if (a == n)
+        out.axis_name = n;
+    }
+    *range = out;
+  });
+}
+
+RP_API const char* rp_warning(const rp_session* session, int index) {
+  if (!session || index < 0)
+    return nullptr;
+  const std::vector<std::string>& w = session->summary().warnings;
+  return static_cast<std::size_t>(index) < w.size() ? w[static_cast<std::size_t>(index)].c_str()
+                                                    : nullptr;
+}
+
+RP_API const char* rp_output_file(const rp_session* session, int index) {
+  if (!session || index < 0 || session->state != rp_session::State::closed)
+    return nullptr;
+  const std::vector<std::string>& f = session->summary().files;
+  return static_cast<std::size_t>(index) < f.size() ? f[static_cast<std::size_t>(index)].c_str()
+                                                    : nullptr;
+}
+
+// --- Reader -------------------------------------------------------------------------------
+
+RP_API rp_status rp_reader_open(const char* path, double chordal_tolerance_mm, rp_reader** reader) {
+  if (!reader)
+    return null_handle("the reader pointer");
+  *reader = nullptr;
+  if (!path)
+    return null_handle("the path");
+  std::unique_ptr<rp_reader> r;
+  const rp_status s = guard(t_error, "", [&] {
+    if (!std::isfinite(chordal_tolerance_mm) || !(chordal_tolerance_mm > 0.0)) {
+      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the chordal tolerance must be > 0 mm, got {}",
+                                                   chordal_tolerance_mm)};
+    }
+    r = std::make_unique<rp_reader>();
+    r->in = redpost::open_text_stream(path);
+    redpost::ClReaderOptions options;
+    options.chordal_tolerance_mm = chordal_tolerance_mm;
+    r->reader = std::make_unique<redpost::ClReader>(r->in, path, options);
+  });
+  if (s == RP_OK)
+    *reader = r.release();
+  return s;
+}
+
+RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
+  if (!reader)
+    return null_handle("the reader");
+  return guard(reader->error, "", [&] {
+    if (!event || !more)
+      throw AbiError{RP_ERR_NULL, "rp_reader_next: event or more is NULL"};
+    *more = 0;
+    const redpost::ClEvent& e = reader->event;
+    if (!reader->reader->next(reader->event))
+      return;
+    rp_event out{};
+    switch (e.kind) {
+      case redpost::ClEventKind::part_name:
+        out.kind = RP_EVENT_PART_NAME;
+        break;
+      case redpost::ClEventKind::tool_change:
+        out.kind = RP_EVENT_TOOL_CHANGE;
+        break;
+      case redpost::ClEventKind::spindle:
+        out.kind = RP_EVENT_SPINDLE;
+        break;
+      case redpost::ClEventKind::feed:
+        out.kind = RP_EVENT_FEED;
+        break;
+      case redpost::ClEventKind::rapid:
+        out.kind = RP_EVENT_RAPID;
+        break;
+      case redpost::ClEventKind::move:
+        out.kind = RP_EVENT_MOVE;
+        break;
+      case redpost::ClEventKind::coolant:
+        out.kind = RP_EVENT_COOLANT;
+        break;
+      case redpost::ClEventKind::operation_start:
+        out.kind = RP_EVENT_OPERATION_START;
+        break;
+      case redpost::ClEventKind::operation_end:
+        out.kind = RP_EVENT_OPERATION_END;
+        break;
+      case redpost::ClEventKind::comment:
+        out.kind = RP_EVENT_COMMENT;
+        break;
+      case redpost::ClEventKind::literal:
+        out.kind = RP_EVENT_LITERAL;
+        break;
+      case redpost::ClEventKind::unknown_word:
+        out.kind = RP_EVENT_UNKNOWN_WORD;
+        break;
+      case redpost::ClEventKind::end_of_program:
+        out.kind = RP_EVENT_END_OF_PROGRAM;
+        break;
+    }
+    out.line = e.line;
+    for (int i = 0; i < 3; ++i) {
+      out.p[i] = e.p_mm[i];
+      out.axis[i] = e.tool_axis[i];
+    }
+    out.rapid = e.rapid ? 1 : 0;
+    out.tool_number = e.tool_number;
+    out.tool_diameter_mm = e.tool_diameter_mm;
+    out.tool_length_mm = e.tool_length_mm;
+    out.value = e.value;
+    switch (e.direction) {
+      case redpost::SpindleDirection::off:
+        out.direction = RP_SPINDLE_OFF;
+        break;
+      case redpost::SpindleDirection::clockwise:
+        out.direction = RP_SPINDLE_CW;
+        break;
+      case redpost::SpindleDirection::counter_clockwise:
+        out.direction = RP_SPINDLE_CCW;
+        break;
+    }
+    out.flag = e.flag ? 1 : 0;
+    out.text = e.text.c_str();  // the reader's event: valid until the next rp_reader_next
+    *event = out;
+    *more = 1;
+  });
+}
+
+RP_API const char* rp_reader_last_error(const rp_reader* reader) {
+  return reader ? reader->error.c_str() : t_error.c_str();
+}
+
+RP_API const char* rp_reader_warning(const rp_reader* reader, int index) {
+  if (!reader || index < 0)
+    return nullptr;
+  const std::deque<std::string>& w = reader->reader->warnings();
+  return static_cast<std::size_t>(index) < w.size() ? w[static_cast<std::size_t>(index)].c_str()
+                                                    : nullptr;
+}
+
+RP_API void rp_reader_free(rp_reader* reader) {
+  delete reader;
+}
+
+RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
+  if (!session)
+    return null_handle("the session");
+  return session->event([&] {
+    if (!event)
+      throw AbiError{RP_ERR_NULL, "the event is NULL"};
+    redpost::ClEvent e;
+    switch (event->kind) {
+      case RP_EVENT_PART_NAME:
+        e.kind = redpost::ClEventKind::part_name;
+        break;
+      case RP_EVENT_TOOL_CHANGE:
+        e.kind = redpost::ClEventKind::tool_change;
+        break;
+      case RP_EVENT_SPINDLE:
+        e.kind = redpost::ClEventKind::spindle;
+        break;
+      case RP_EVENT_FEED:
+        e.kind = redpost::ClEventKind::feed;
+        break;
+      case RP_EVENT_RAPID:
+        e.kind = redpost::ClEventKind::rapid;
+        break;
+      case RP_EVENT_MOVE:
+        e.kind = redpost::ClEventKind::move;
+        break;
+      case RP_EVENT_COOLANT:
+        e.kind = redpost::ClEventKind::coolant;
+        break;
+      case RP_EVENT_OPERATION_START:
+        e.kind = redpost::ClEventKind::operation_start;
+        break;
+      case RP_EVENT_OPERATION_END:
+        e.kind = redpost::ClEventKind::operation_end;
+        break;
+      case RP_EVENT_COMMENT:
+        e.kind = redpost::ClEventKind::comment;
+        break;
+      case RP_EVENT_LITERAL:
+        e.kind = redpost::ClEventKind::literal;
+        break;
+      case RP_EVENT_UNKNOWN_WORD:
+        e.kind = redpost::ClEventKind::unknown_word;
+        break;
+      case RP_EVENT_END_OF_PROGRAM:
+        e.kind = redpost::ClEventKind::end_of_program;
+        break;
+      default:
+        throw AbiError{RP_ERR_BAD_INPUT, "event kind " +
+                                             std::to_string(static_cast<int>(event->kind)) +
+                                             " is not an rp_event_kind"};
+    }
+    e.line = event->line;
+    e.p_mm = vec(event->p[0], event->p[1], event->p[2]);
+    e.tool_axis = vec(event->axis[0], event->axis[1], event->axis[2]);
+    e.rapid = event->rapid != 0;
+    e.tool_number = event->tool_number;
+    e.tool_diameter_mm = event->tool_diameter_mm;
+    e.tool_length_mm = event->tool_length_mm;
+    e.value = event->value;
+    switch (event->direction) {
+      case RP_SPINDLE_OFF:
+        e.direction = redpost::SpindleDirection::off;
+        break;
+      case RP_SPINDLE_CW:
+        e.direction = redpost::SpindleDirection::clockwise;
+        break;
+      case RP_SPINDLE_CCW:
+        e.direction = redpost::SpindleDirection::counter_clockwise;
+        break;
+      default:
+        if (e.kind == redpost::ClEventKind::spindle)
+          throw AbiError{RP_ERR_BAD_INPUT, "the spindle direction is not an rp_spindle_direction"};
+    }
+    e.flag = event->flag != 0;
+    if (event->text)
+      e.text = event->text;
+    session->post->handle(e);
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,51 @@
+# redpost_settings.tcl: the settings of the redpost NX event handlers (redpost_post.tcl).
+#
+# Edit this file for your cell; it sits next to redpost_post.tcl, which sources it (or set the
+# environment variable REDPOST_SETTINGS to another file). Relative paths are taken relative to
+# the directory of this file. Units: mm and degrees. See docs/nx-integration.md.
+
+namespace eval ::redpost_settings {
+    variable dir [file dirname [file normalize [info script]]]
+
+    # Where the redpost Tcl package is: the directory holding pkgIndex.tcl (build/plugin, or
+    # <prefix>/lib/redpost0.1.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
+    variable library_dir ""
+
+    # The workcell definition (XML, docs/cell-format.md).
+    variable cell [file join $dir .. definitions cells andres2011_kr15_track_table.xml]
+
+    # The KRL template set (docs/krl-templates.md): krc4_lin, krc4_spline, krc2_lin or a file of
+    # your own. "" : the shipped krc4_lin.
+    variable krl ""
+
+    # Output directory. "" : the directory of NX's output file (mom_output_file_full_name).
+    variable output_dir ""
+
+    # Program name: a KRL identifier of at most 24 characters (19 with split). "" : made from
+    # the name of NX's output file (mom_output_file_full_name), as `redpost convert` does.
+    variable program_name ""
+
+    # Where the CL (workpiece/MCS) frame lies in the cell's base frame {B}: {x y z a b c}
+    # (mm, deg, KUKA A-B-C). {} : the CL frame is {B} (the reference cell's table frame).
+    variable placement {}
+
+    # Right-hand sides of $BASE = and $TOOL =.
+    variable base "BASE_DATA\[1\]"
+    variable tool "TOOL_DATA\[1\]"
+
+    # $APO.CDIS (mm); motions per file (0: one file); a CL-line comment every N motions;
+    # chordal tolerance of circular moves (mm).
+    variable apo 0.5
+    variable split 0
+    variable cl_line_every 50
+    variable chordal_tol 0.01
+
+    # A joints log (CSV, one row per motion). "" : none.
+    variable joints_csv ""
+
+    # Name used in messages and in the program's header. "" : NX's part (mom_part_name).
+    variable source ""
+
+    # 1: put the part name (mom_part_name) in a comment at the start of the program.
+    variable part_comment 1
+}
