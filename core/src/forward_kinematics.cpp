@@ -83,7 +83,8 @@ struct Frame {
 
 }  // namespace
 
-void forward_kinematics(const Cell& cell, const JointVector& q, KinematicsData& data) {
+void forward_kinematics(const Cell& cell, const JointVector& q, KinematicsData& data,
+                        bool link_frames) {
   assert(q.size() == cell.size());
   const int n = cell.size();
   data.joint_count = n;
@@ -129,7 +130,8 @@ void forward_kinematics(const Cell& cell, const JointVector& q, KinematicsData& 
       if (d != 0.0)
         F.translate_z(d);
     }
-    F.store(data.T_B_link[static_cast<size_t>(i)]);
+    if (link_frames)
+      F.store(data.T_B_link[static_cast<size_t>(i)]);
   }
   if (cell.has_tcp_frame)
     F.compose(cell.T_last_tcp);

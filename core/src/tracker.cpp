@@ -119,7 +119,7 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
     // The previous pose ended at this very posture: its frames and Jacobian are still in `s`.
     const bool evaluated = it == 0 && start_evaluated;
     if (!evaluated)
-      forward_kinematics(cell, q, s.data);
+      forward_kinematics(cell, q, s.data, /*link_frames=*/false);
     const Vector6d dt = task_error(s.data.T_B_tcp, target);
     r.position_error_mm = dt.tail<3>().norm();
     // |Q vect(Q^T Q_d)| = sin(phi) <= phi (or phi itself beyond 90 deg): the exact angle is only

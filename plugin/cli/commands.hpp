@@ -8,11 +8,14 @@
 namespace redpost::cli {
 
 inline constexpr int kExitOk = 0;
+inline constexpr int kExitDifferent = 1;  // diff: different; check: findings
 inline constexpr int kExitBadInput = 2;
 
 using Runner = std::function<int()>;
 
 Runner add_fk_command(CLI::App& app);
 Runner add_convert_command(CLI::App& app);
+Runner add_diff_command(CLI::App& app);
+Runner add_check_command(CLI::App& app);
 
 }  // namespace redpost::cli

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
 
   const redpost::cli::Runner fk = redpost::cli::add_fk_command(app);
   const redpost::cli::Runner convert = redpost::cli::add_convert_command(app);
+  const redpost::cli::Runner diff = redpost::cli::add_diff_command(app);
+  const redpost::cli::Runner check = redpost::cli::add_check_command(app);
 
   try {
     app.parse(argc, argv);
@@ -26,6 +28,10 @@ int main(int argc, char** argv) {
       return fk();
     if (app.got_subcommand("convert"))
       return convert();
+    if (app.got_subcommand("diff"))
+      return diff();
+    if (app.got_subcommand("check"))
+      return check();
   } catch (const redpost::Error& e) {
     fmt::print(stderr, "redpost: {}\n", e.what());
     return redpost::cli::kExitBadInput;

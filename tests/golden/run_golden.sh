@@ -34,5 +34,10 @@ for c in "${cases[@]}"; do
   else
     echo "golden $name: identical ($(ls "$out" | wc -l) files)"
   fi
+  # And semantically: every motion equal at tolerance 0 (redpost diff, docs/krl-diff.md).
+  if ! "$redpost" diff "$src/tests/golden/$name" "$out" --pos-tol 0 --ang-tol 0 --axis-tol 0 \
+    >"$work/$name.krldiff" 2>&1; then
+    echo "golden $name: redpost diff reports differences:"; head -20 "$work/$name.krldiff"; failed=1
+  fi
 done
 exit $failed

@@ -27,7 +27,10 @@ struct KinematicsData {
 };
 
 // Fills `data` for the joint values q (DH units, chain order). q.size() must be cell.size().
-void forward_kinematics(const Cell& cell, const JointVector& q, KinematicsData& data);
+// With link_frames = false, T_B_link is left as it was: the joint axes, the points on them and
+// the TCP (all the Jacobian needs) are still computed, a little faster, as the tracker does.
+void forward_kinematics(const Cell& cell, const JointVector& q, KinematicsData& data,
+                        bool link_frames = true);
 
 // Convenience: the TCP pose only.
 Isometry tcp_pose(const Cell& cell, const JointVector& q);

@@ -1,0 +1,53 @@
+// `redpost diff`: compares two KRL programs (or directories of them) motion by motion
+// (docs/krl-diff.md). Exit 0: equal within tolerance, 1: different, 2: error.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "redpost/error.hpp"
+#include "redpost/krl_diff.hpp"
+
+namespace redpost::cli {
+
+namespace {
+
+struct DiffOptions {
+  std::string a, b;
+  KrlDiffOptions diff;
+  bool json = false;
+};
+
+int run_diff(const DiffOptions& opt) {
+  const KrlDiffResult r = diff_krl_paths(opt.a, opt.b, opt.diff);
+  const std::string out =
+      opt.json ? format_krl_diff_json(r, opt.diff) : format_krl_diff_text(r, opt.diff);
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  return r.equal ? kExitOk : kExitDifferent;
+}
+
+}  // namespace
+
+Runner add_diff_command(CLI::App& app) {
+  auto opt = std::make_shared<DiffOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "diff",
+      "Compare two KRL programs (.src, or directories of them) motion by motion: position, "
+      "orientation, axes, S/T and keyword. Exit 0 equal within tolerance, 1 different, 2 error.");
+  cmd->add_option("A", opt->a, "First program (.src) or directory")->required();
+  cmd->add_option("B", opt->b, "Second program (.src) or directory")->required();
+  cmd->add_option("--pos-tol", opt->diff.pos_tol_mm, "Position tolerance (mm)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--ang-tol", opt->diff.ang_tol_deg, "Orientation tolerance (deg)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--axis-tol", opt->diff.axis_tol, "Axis tolerance, A1..A6 and E1..E6 (deg or mm)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-shown", opt->diff.max_shown, "Differences listed")->capture_default_str();
+  cmd->add_flag("--json", opt->json, "Machine-readable report");
+  return [opt] { return run_diff(*opt); };
+}
+
+}  // namespace redpost::cli

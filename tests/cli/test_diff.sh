@@ -1,0 +1,199 @@
+#!/usr/bin/env bash
+# cli.diff: `redpost diff` and `redpost check` driven as a user drives them.
+#
+#   test_diff.sh <path-to-redpost> <source-dir>
+#
+# diff: a golden program against itself (tolerance 0), a coordinate moved by 0.05 mm, a motion
+# inserted in the middle, equivalent A, B, C forms, JSON output, directories, errors.
+# check: golden programs clean, each finding at its line, --cell limits, the evaluation files.
+set -euo pipefail
+
+if [[ $# -ne 2 ]]; then
+  echo "usage: $0 <path-to-redpost> <source-dir>" >&2
+  exit 1
+fi
+BIN=$1
+SRC=$2
+GOLDEN="$SRC/tests/golden"
+CELL="$SRC/definitions/cells/andres2011_kr15_track_table.xml"
+
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/redpost_cli_diff.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+
+checks=0
+current=""
+fail() {
+  {
+    echo "cli.diff: FAIL: ${current}: $*"
+    echo "--- stdout:"; cat "$TMP/out" 2>/dev/null || true
+    echo "--- stderr:"; cat "$TMP/err" 2>/dev/null || true
+    echo "--- exit code: ${RC:-?}"
+  } >&2
+  exit 1
+}
+begin() { current=$1; }
+passed() { checks=$((checks + 1)); }
+run() {
+  set +e
+  "$BIN" "$@" >"$TMP/out" 2>"$TMP/err"
+  RC=$?
+  set -e
+}
+expect_rc() { [[ $RC -eq $1 ]] || fail "exit code $RC, expected $1"; }
+expect_out() { grep -qF -- "$1" "$TMP/out" || fail "no '$1' in stdout"; }
+expect_err() { grep -qF -- "$1" "$TMP/err" || fail "no '$1' in stderr"; }
+
+# ---- diff ------------------------------------------------------------------------------------
+begin "golden vs itself, tolerance 0"
+for p in pocket_arcs/POCKET_ARCS.src pocket_arcs_spline/POCKET_ARCS_SPLINE.src \
+         surface_5axis/SURFACE_5AXIS.src long_pass/LONG_PASS.src; do
+  run diff "$GOLDEN/$p" "$GOLDEN/$p" --pos-tol 0 --ang-tol 0 --axis-tol 0
+  expect_rc 0
+  expect_out "equal:"
+done
+passed
+
+begin "directory vs itself"
+run diff "$GOLDEN/long_pass" "$GOLDEN/long_pass" --pos-tol 0 --ang-tol 0 --axis-tol 0
+expect_rc 0
+passed
+
+begin "coordinate moved by 0.05 mm"
+mkdir -p "$TMP/moved"
+cp "$GOLDEN/pocket_arcs/"* "$TMP/moved/"
+# line 29: LIN {E6POS: X -72.000, ... -> X -71.950
+sed -i '29s/X -72\.000,/X -71.950,/' "$TMP/moved/POCKET_ARCS.src"
+grep -q 'X -71.950,' "$TMP/moved/POCKET_ARCS.src" || fail "sed did not edit the copy"
+run diff "$GOLDEN/pocket_arcs/POCKET_ARCS.src" "$TMP/moved/POCKET_ARCS.src"
+expect_rc 1
+expect_out "POCKET_ARCS.src:29 <-> "
+expect_out "moved/POCKET_ARCS.src:29: LIN / LIN: position 0.05 mm"
+run diff "$GOLDEN/pocket_arcs/POCKET_ARCS.src" "$TMP/moved/POCKET_ARCS.src" --pos-tol 0.1
+expect_rc 0
+passed
+
+begin "motion inserted in the middle"
+mkdir -p "$TMP/inserted"
+cp "$GOLDEN/pocket_arcs/"* "$TMP/inserted/"
+sed -i '100a LIN {E6POS: X -150.000, Y -450.000, Z 80.000, A 4.0000, B 0.0000, C 0.0000, E1 500.0000, E2 20.0000} C_DIS\r' \
+  "$TMP/inserted/POCKET_ARCS.src"
+run diff "$GOLDEN/pocket_arcs/POCKET_ARCS.src" "$TMP/inserted/POCKET_ARCS.src"
+expect_rc 1
+expect_out "inserted/POCKET_ARCS.src:101: inserted in B: 1 motion"
+expect_out " 0 changed, 1 inserted, 0 removed"
+run diff "$TMP/inserted/POCKET_ARCS.src" "$GOLDEN/pocket_arcs/POCKET_ARCS.src" --json
+expect_rc 1
+python3 - "$TMP/out" <<'PY' || fail "JSON of the removal"
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["equal"] is False and r["removed"] == 1 and r["inserted"] == 0 and r["changed"] == 0, r
+d = r["differences"]
+assert len(d) == 1 and d[0]["kind"] == "removed" and d[0]["a"]["line"] == 101, d
+PY
+passed
+
+begin "equivalent A, B, C"
+mkdir -p "$TMP/abc"
+printf 'DEF P( )\r\nPTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\r\nLIN {X 1, Y 2, Z 3, A 180, B 20, C 30}\r\nLIN {X 1, Y 2, Z 4, A 30, B 90, C 0}\r\nEND\r\n' >"$TMP/abc/A.src"
+printf 'DEF P( )\r\nPTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\r\nLIN {X 1, Y 2, Z 3, A -180, B 20, C 30}\r\nLIN {X 1, Y 2, Z 4, A 40, B 90, C 10}\r\nEND\r\n' >"$TMP/abc/B.src"
+printf 'DEF P( )\r\nPTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\r\nLIN {X 1, Y 2, Z 3, A -180, B 20, C 30}\r\nLIN {X 1, Y 2, Z 4, A 40, B 90, C 0}\r\nEND\r\n' >"$TMP/abc/C.src"
+run diff "$TMP/abc/A.src" "$TMP/abc/B.src"
+expect_rc 0
+run diff "$TMP/abc/A.src" "$TMP/abc/C.src"
+expect_rc 1
+expect_out "C.src:4: LIN / LIN: orientation 10 deg"
+passed
+
+begin "JSON output parses"
+run diff "$GOLDEN/pocket_arcs/POCKET_ARCS.src" "$TMP/moved/POCKET_ARCS.src" --json
+expect_rc 1
+python3 - "$TMP/out" <<'PY' || fail "JSON"
+import json, sys
+r = json.load(open(sys.argv[1]))
+for k in ("equal", "compared", "inserted", "removed", "differences", "statistics"):
+    assert k in r, k
+assert r["equal"] is False and r["inserted"] == 0 and r["removed"] == 0
+d = r["differences"][0]
+assert d["kind"] == "changed" and d["a"]["line"] == 29 and d["b"]["line"] == 29, d
+assert abs(d["deviations"][0]["value"] - 0.05) < 1e-9, d
+s = r["statistics"]["position"]
+assert s["over_tolerance"] == 1 and abs(s["max"] - 0.05) < 1e-9, s
+PY
+passed
+
+begin "errors"
+run diff "$TMP/none.src" "$GOLDEN/pocket_arcs/POCKET_ARCS.src"
+expect_rc 2
+expect_err "none.src"
+run diff "$GOLDEN/pocket_arcs" "$GOLDEN/pocket_arcs/POCKET_ARCS.src"
+expect_rc 2
+printf 'DEF P( )\r\nLIN {X 1, Y 2, Z 3\r\nEND\r\n' >"$TMP/broken.src"
+run diff "$TMP/broken.src" "$TMP/broken.src"
+expect_rc 2
+expect_err "broken.src:"
+passed
+
+# ---- check -----------------------------------------------------------------------------------
+begin "check: golden programs are clean"
+for d in pocket_arcs pocket_arcs_spline pocket_arcs_krc2 surface_5axis long_pass; do
+  run check "$GOLDEN/$d" --cell "$CELL"
+  expect_rc 0
+  [[ ! -s "$TMP/out" ]] || fail "findings in $d"
+done
+run check "$GOLDEN/pocket_arcs/POCKET_ARCS.src"
+expect_rc 0
+passed
+
+begin "check: findings at their lines"
+mkdir -p "$TMP/bad"
+cat >"$TMP/bad/BAD.src" <<'KRL'
+DEF BAD( )
+DECL INT I
+;FOLD never closed
+$VEL.CP = 5
+PTP {A1 0, A2 -170, A3 90, A4 0, A5 0, A6 0, E1 0, E2 0}
+PTP {X 100, Y 0, Z 500, A 0, B 90, C 0}
+ABCDEFGHIJKLMNOPQRSTUVWXY = 1
+LIN XP1 C_DIS
+END
+KRL
+printf 'DEFDAT BAD\nDECL E6POS XP1={X 1,Y 2,Z 3,A 0,B 0,C 0,S 6,T 27}\nENDDAT\n' >"$TMP/bad/BAD.dat"
+run check "$TMP/bad/BAD.src" --cell "$CELL"
+expect_rc 1
+expect_out "BAD.src:3: FOLD without a matching ENDFOLD"
+expect_out 'BAD.src:4: $VEL.CP = 5 m/s is out of range'
+expect_out "BAD.src:5: A2 -170 is outside the limits [-155, 35]"
+expect_out "BAD.src:6: the first Cartesian PTP has no S and T"
+expect_out "BAD.src:7: identifier 'ABCDEFGHIJKLMNOPQRSTUVWXY' has 25 characters"
+[[ $(wc -l <"$TMP/out") -eq 5 ]] || fail "expected 5 findings"
+run check "$TMP/bad/BAD.src"
+expect_rc 1
+grep -q "A2 -170" "$TMP/out" && fail "A2 limit without --cell"
+run check "$TMP/bad/BAD.src" --max-bytes 100
+expect_out "BAD.src:1: file is"
+# An undeclared point (the reader stops there too: one line, noted).
+cat >"$TMP/bad/UNDECL.src" <<'KRL'
+DEF UNDECL( )
+PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}
+LIN XP9 C_DIS
+END
+KRL
+run check "$TMP/bad/UNDECL.src"
+expect_rc 1
+expect_out "UNDECL.src:3: motion target 'XP9' is not declared"
+run check "$TMP/nothing.src"
+expect_rc 2
+passed
+
+begin "check: evaluation KRL files"
+if [[ -d /work/shared/evaldata/krl ]]; then
+  for f in /work/shared/evaldata/krl/*.src /work/shared/evaldata/krl; do
+    run check "$f"
+    [[ $RC -eq 0 || $RC -eq 1 ]] || fail "$f: exit $RC"
+  done
+  passed
+else
+  echo "cli.diff: /work/shared/evaldata/krl absent: skipped"
+fi
+
+echo "cli.diff: $checks groups passed"
