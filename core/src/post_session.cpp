@@ -97,7 +97,6 @@ struct PostSession::Impl {
 
   bool started = false;
   bool next_rapid = false;
-  bool finished = false;
   double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
   bool feed_warned = false;
   TcpTarget last_target;
@@ -479,10 +478,11 @@ const PostSummary& PostSession::finish() {
   }
   // The joints log first: if the program cannot be completed after it, the log is complete and
   // correct, whereas a program without its log would be the worse half to leave behind.
-  if (m.csv)
+  if (m.csv) {
     m.csv->commit();
+    m.csv.reset();  // committed: nothing left to remove, and a second finish() cannot touch it
+  }
   m.summary.files = m.writer.finish();
-  m.finished = true;
   return m.summary;
 }
 
