@@ -13,6 +13,7 @@ namespace {
 // The loops have constant bounds 6; unrolled, the whole function is straight-line code.
 double inverse_condition_of_gram(const Eigen::Matrix<double, 6, 6>& M_lower) {
   double L[6][6] = {};
+  double inv_diag[6];  // 1 / L(j, j): six divisions instead of thirty-six
   const double trace_M = M_lower.trace();
   _Pragma("GCC unroll 6") for (int j = 0; j < 6; ++j) {
     double d = M_lower(j, j);
@@ -21,10 +22,11 @@ double inverse_condition_of_gram(const Eigen::Matrix<double, 6, 6>& M_lower) {
     if (!(d > 1e-14 * trace_M))
       return 0.0;
     L[j][j] = std::sqrt(d);
+    inv_diag[j] = 1.0 / L[j][j];
     _Pragma("GCC unroll 6") for (int i = j + 1; i < 6; ++i) {
       double s = M_lower(i, j);
       _Pragma("GCC unroll 6") for (int k = 0; k < j; ++k) s -= L[i][k] * L[j][k];
-      L[i][j] = s / L[j][j];
+      L[i][j] = s * inv_diag[j];
     }
   }
   double trace_inv = 0.0;
@@ -33,7 +35,7 @@ double inverse_condition_of_gram(const Eigen::Matrix<double, 6, 6>& M_lower) {
     _Pragma("GCC unroll 6") for (int i = c; i < 6; ++i) {
       double s = i == c ? 1.0 : 0.0;
       _Pragma("GCC unroll 6") for (int k = c; k < i; ++k) s -= L[i][k] * x[k];
-      x[i] = s / L[i][i];
+      x[i] = s * inv_diag[i];
       trace_inv += x[i] * x[i];
     }
   }

@@ -91,13 +91,16 @@ double smallest_singular_value_bound(const double (&A)[6][kMaxJoints]) {
   if (!(diag_min > 1e-14 * diag_max))
     return 0.0;
   // Column c of U^-1 (upper triangular): solve U x = e_c for rows c..0. U(i, j) = A[j][i].
+  // Six divisions instead of twenty-one: they are the slowest operations here.
+  double inv_diag[6];
+  _Pragma("GCC unroll 6") for (int k = 0; k < 6; ++k) inv_diag[k] = 1.0 / A[k][k];
   double frob2 = 0.0;
   _Pragma("GCC unroll 6") for (int c = 0; c < 6; ++c) {
     double x[6];
     _Pragma("GCC unroll 6") for (int i = c; i >= 0; --i) {
       double s = i == c ? 1.0 : 0.0;
       _Pragma("GCC unroll 6") for (int j = i + 1; j <= c; ++j) s -= A[j][i] * x[j];
-      x[i] = s / A[i][i];
+      x[i] = s * inv_diag[i];
       frob2 += x[i] * x[i];
     }
   }
