@@ -275,7 +275,13 @@ PoseResult Tracker::solve_first_pose(const TcpTarget& target, int perturbed_star
   double best_cost = std::numeric_limits<double>::infinity();
   double best_failed_error = std::numeric_limits<double>::infinity();
 
-  auto attempt = [&](const JointVector& start) {
+  auto attempt = [&](const JointVector& proposed) {
+    // Locked joints are held at their current value, whatever the start proposes.
+    JointVector start = proposed;
+    for (int i = 0; i < n; ++i) {
+      if (options_.locked[static_cast<size_t>(i)])
+        start[i] = q_[i];
+    }
     SwitchState sw;
     sw.q_Ts = start;
     PoseResult r = iterate(target, start, &sw, false, 200, false, s);

@@ -80,7 +80,7 @@ TEST_CASE("tracker: a 5-axis raster is tracked within tolerance, limits and the 
 }
 
 TEST_CASE("tracker: the null-space goals act (centring on home) without spoiling the task") {
-  // Both trackers start from the same posture, far from home in the null space: track 800 mm
+  // Both trackers start from the same posture, far from home in the null space: track 600 mm
   // away and the table turned by 0.3 rad, the arm solved for the first target. With h = 0 the
   // redundancy stays where it is; with centring it drifts back towards home.
   const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
@@ -91,7 +91,7 @@ TEST_CASE("tracker: the null-space goals act (centring on home) without spoiling
   Tracker start(cell, frozen);
   JointVector away = cell.home();
   away[0] += 0.3;
-  away[1] += 800.0;
+  away[1] += 600;
   start.reset(away);
   const PoseResult first = start.solve_first_pose(path.front());
   REQUIRE(first.status == PoseStatus::converged);
@@ -312,4 +312,23 @@ TEST_CASE("tracker: the KR270-2 cell (modified DH, spin after a fixed frame) tra
     CHECK((T.translation() - path[k].p_B_mm).norm() <= 1e-4);
     CHECK(within_limits(cell, run.results[k].q));
   }
+}
+
+TEST_CASE("tracker: solve_first_pose holds locked joints at their current value") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  TrackerOptions o;
+  o.locked.set(0);
+  o.locked.set(1);
+  Tracker tracker(cell, o);
+  JointVector q = cell.home();
+  q[0] = deg_to_rad(30.0);
+  q[1] = 900.0;
+  tracker.reset(q);
+  // A target the arm reaches from there: the home TCP pose seen from the moved table and track.
+  const Isometry T = tcp_pose(cell, q);
+  const PoseResult r = tracker.solve_first_pose(
+      TcpTarget::axis(T.translation() + Eigen::Vector3d(20, -10, -30), T.linear().col(2)));
+  REQUIRE(r.status == PoseStatus::converged);
+  CHECK(r.q[0] == q[0]);
+  CHECK(r.q[1] == q[1]);
 }
