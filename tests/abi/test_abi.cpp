@@ -1,7 +1,7 @@
 // The C ABI (redpost.h) as a host sees it: only the header and libredpost.so, no core headers.
 // Misuse gives a status and a message, never a crash; a circular move equals the reader's
 // CIRCLE; two sessions on two threads give the bytes of a single-threaded run.
-#include "catch.hpp"
+#include "catch_compat.hpp"
 
 #include <cmath>
 #include <cstdio>

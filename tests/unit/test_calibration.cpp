@@ -2,7 +2,7 @@
 #include <cmath>
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/calibration.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"

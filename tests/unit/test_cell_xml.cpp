@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/cell_xml.hpp"
 #include "redpost/error.hpp"
 #include "redpost/types.hpp"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/cl_reader.hpp"
 #include "redpost/error.hpp"
 #include "redpost/types.hpp"

@@ -2,7 +2,7 @@
 // against hand-written cases.
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"
 #include "test_support.hpp"

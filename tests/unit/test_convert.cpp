@@ -7,7 +7,7 @@
 #include <regex>
 #include <sstream>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/cl_reader.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"

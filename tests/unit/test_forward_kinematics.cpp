@@ -2,7 +2,7 @@
 // written model of the same arm.
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/forward_kinematics.hpp"
 #include "redpost/kuka_abc.hpp"

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/cell.hpp"
 #include "redpost/conditioning.hpp"
 #include "redpost/forward_kinematics.hpp"

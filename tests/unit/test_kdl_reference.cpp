@@ -12,7 +12,7 @@
 #include <kdl/jacobian.hpp>
 #include <kdl/jntarray.hpp>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "kdl_chain.hpp"
 #include "redpost/cell.hpp"
 #include "redpost/forward_kinematics.hpp"

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/cell_xml.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"

@@ -1,7 +1,7 @@
 // redpost diff as a library: alignment, deviations, ABC equivalence, statistics and reports.
 #include <string>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/krl_diff.hpp"
 #include "redpost/kuka_abc.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/error.hpp"
 #include "redpost/krl_reader.hpp"
 #include "test_support.hpp"

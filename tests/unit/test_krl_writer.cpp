@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"

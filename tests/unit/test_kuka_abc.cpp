@@ -1,7 +1,7 @@
 // KUKA A, B, C against closed forms and as a round trip.
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/kuka_abc.hpp"
 
 using namespace redpost;

@@ -2,7 +2,7 @@
 // limit-avoidance motion against its definition.
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/conditioning.hpp"
 #include "redpost/jacobian.hpp"
 #include "redpost/null_space.hpp"

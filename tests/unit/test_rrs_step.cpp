@@ -2,7 +2,7 @@
 #include <Eigen/SVD>
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/rrs_step.hpp"
 
 using namespace redpost;

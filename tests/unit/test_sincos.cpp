@@ -3,7 +3,7 @@
 #include <random>
 
 #include "../../core/src/sincos.hpp"
-#include "catch.hpp"
+#include "catch_compat.hpp"
 
 TEST_CASE("sincos: within 2.3e-16 of libm over the joint range and beyond") {
   std::mt19937_64 rng(61);

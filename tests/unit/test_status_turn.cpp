@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"

@@ -1,7 +1,7 @@
 // The task error of Andres eq. 14-16 against closed forms.
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "redpost/task_error.hpp"
 
 using namespace redpost;

@@ -5,7 +5,7 @@
 #include <kdl/chainiksolvervel_pinv.hpp>
 #include <random>
 
-#include "catch.hpp"
+#include "catch_compat.hpp"
 #include "kdl_chain.hpp"
 #include "paths.hpp"
 #include "redpost/conditioning.hpp"
