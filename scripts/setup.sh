@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libtinyxml2-dev libfmt-dev libcli11-dev tcl8.6-dev libnlopt-cxx-dev
-    catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time
+    catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time python3
 )
 
 missing=()
