@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   const redpost::cli::Runner convert = redpost::cli::add_convert_command(app);
   const redpost::cli::Runner diff = redpost::cli::add_diff_command(app);
   const redpost::cli::Runner check = redpost::cli::add_check_command(app);
+  const redpost::cli::Runner calibrate = redpost::cli::add_calibrate_command(app);
 
   try {
     app.parse(argc, argv);
@@ -32,6 +33,8 @@ int main(int argc, char** argv) {
       return diff();
     if (app.got_subcommand("check"))
       return check();
+    if (app.got_subcommand("calibrate"))
+      return calibrate();
   } catch (const redpost::Error& e) {
     fmt::print(stderr, "redpost: {}\n", e.what());
     return redpost::cli::kExitBadInput;

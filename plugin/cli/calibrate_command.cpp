@@ -1,0 +1,362 @@
+// `redpost calibrate`: in-situ calibration of the external axes from laser readings on three
+// planes (issue 7, docs/calibration.md).
+//
+//   redpost calibrate plan --cell C.xml [--grid 6] [--stand-off 0] [--configs "0,700;45,300"] -o
+//   DIR redpost calibrate simulate --cell C.xml --true TRUE.xml [--noise-mm 0.035] [--seed N] -o
+//   R.csv redpost calibrate --cell C.xml --readings R.csv [--params LIST] [--allow-partial] [--json
+//   J]
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "redpost/calibration.hpp"
+#include "redpost/calibration_csv.hpp"
+#include "redpost/cell_xml.hpp"
+#include "redpost/error.hpp"
+#include "redpost/text_file.hpp"
+
+namespace redpost::cli {
+
+namespace {
+
+struct PlanArgs {
+  std::string cell_path;
+  int grid = 6;
+  double stand_off_mm = 0.0;
+  std::string configs;
+  std::string out;
+};
+
+struct SimulateArgs {
+  PlanArgs plan;
+  std::string true_path;
+  double noise_mm = 0.035;
+  std::uint64_t seed = 1;
+  std::string form = "pose";
+};
+
+struct CalibrateArgs {
+  std::string cell_path;
+  std::string readings;
+  std::string params;
+  bool allow_partial = false;
+  std::string json;
+  std::string out;
+};
+
+double parse_double(const std::string& text, const std::string& what) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v))
+      return v;
+  } catch (const std::exception&) {
+  }
+  throw Error(ErrorCode::bad_input, fmt::format("{}: '{}' is not a number", what, text));
+}
+
+std::string trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t");
+  if (b == std::string::npos)
+    return "";
+  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
+}
+
+// "0,700;45,300": one configuration per ';', values in the order of the external joints,
+// revolute joints in deg, prismatic ones in mm.
+std::vector<std::vector<double>> parse_configs(const std::string& text, const Cell& cell,
+                                               const std::vector<int>& external) {
+  std::vector<std::vector<double>> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t semi = text.find(';', start);
+    const std::string item =
+        trim(text.substr(start, semi == std::string::npos ? std::string::npos : semi - start));
+    start = semi == std::string::npos ? text.size() + 1 : semi + 1;
+    if (item.empty())
+      continue;
+    std::vector<double> values;
+    size_t s = 0;
+    while (s <= item.size()) {
+      const size_t comma = item.find(',', s);
+      const std::string v =
+          trim(item.substr(s, comma == std::string::npos ? std::string::npos : comma - s));
+      s = comma == std::string::npos ? item.size() + 1 : comma + 1;
+      values.push_back(parse_double(v, "--configs"));
+    }
+    if (values.size() != external.size())
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("--configs: '{}' has {} values, expected {} (one per external "
+                              "joint: {})",
+                              item, values.size(), external.size(),
+                              fmt::format("{}, {}", cell.joint(external[0]).name,
+                                          cell.joint(external[1]).name)));
+    for (size_t k = 0; k < values.size(); ++k) {
+      if (cell.joint(external[k]).type != JointType::prismatic)
+        values[k] = deg_to_rad(values[k]);
+    }
+    out.push_back(values);
+  }
+  if (out.empty())
+    throw Error(ErrorCode::bad_input, "--configs: no configuration given");
+  return out;
+}
+
+CalibrationPlanOptions plan_options(const PlanArgs& args, const Cell& cell) {
+  CalibrationPlanOptions opt;
+  if (cell.size() < 3)
+    throw Error(ErrorCode::bad_input, "calibrate: the cell needs two external joints and an arm");
+  if (args.grid < 2)
+    throw Error(ErrorCode::bad_input, fmt::format("--grid: {} is below 2", args.grid));
+  opt.grid = args.grid;
+  opt.stand_off_mm = args.stand_off_mm;
+  if (!args.configs.empty())
+    opt.configurations = parse_configs(args.configs, cell, opt.external_joints);
+  return opt;
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out)
+    throw Error(ErrorCode::io, fmt::format("cannot write '{}'", path));
+  out << text;
+  out.close();
+  if (!out)
+    throw Error(ErrorCode::io, fmt::format("error writing '{}'", path));
+}
+
+int run_plan(const PlanArgs& args) {
+  const Cell cell = load_cell(args.cell_path);
+  const CalibrationPlanOptions opt = plan_options(args, cell);
+  std::vector<CalibrationPoint> points = plan_calibration(cell, opt);
+  std::error_code ec;
+  std::filesystem::create_directories(args.out, ec);
+  if (ec)
+    throw Error(ErrorCode::io,
+                fmt::format("cannot create the directory '{}': {}", args.out, ec.message()));
+  ReadingsWriteOptions wopt;
+  wopt.form = ReadingsForm::commanded_pose;
+  wopt.external_joints = opt.external_joints;
+  wopt.blank_distances = true;
+  const std::string path = (std::filesystem::path(args.out) / "readings_template.csv").string();
+  write_file(path, format_readings_csv(cell, points, wopt));
+  fmt::print("{} points ({} configurations, {}x{} grids): {}\n", points.size(),
+             opt.configurations.size(), opt.grid, opt.grid, path);
+  return kExitOk;
+}
+
+int run_simulate(const SimulateArgs& args) {
+  const Cell cell = load_cell(args.plan.cell_path);
+  const Cell truth = load_cell(args.true_path);
+  if (truth.size() != cell.size())
+    throw Error(ErrorCode::bad_input, fmt::format("--true: the cell has {} joints, '{}' has {}",
+                                                  cell.size(), args.true_path, truth.size()));
+  if (!(args.noise_mm >= 0.0))
+    throw Error(ErrorCode::bad_input, "--noise-mm must not be negative");
+  const CalibrationPlanOptions opt = plan_options(args.plan, cell);
+  std::vector<CalibrationPoint> points = plan_calibration(cell, opt);
+  simulate_readings(truth, points, args.noise_mm, args.seed, opt.model);
+  ReadingsWriteOptions wopt;
+  if (args.form == "pose")
+    wopt.form = ReadingsForm::commanded_pose;
+  else if (args.form == "joints")
+    wopt.form = ReadingsForm::joints;
+  else
+    throw Error(ErrorCode::bad_input, "--form must be 'pose' or 'joints'");
+  wopt.external_joints = opt.external_joints;
+  write_file(args.plan.out, format_readings_csv(cell, points, wopt));
+  fmt::print("{} simulated readings (noise {} mm, seed {}): {}\n", points.size(), args.noise_mm,
+             args.seed, args.plan.out);
+  return kExitOk;
+}
+
+// JSON number: shortest round-trip form; NaN and infinities as null.
+std::string jnum(double v) {
+  if (!std::isfinite(v))
+    return "null";
+  if (v == 0.0)
+    v = 0.0;
+  return fmt::format("{}", v);
+}
+
+std::string jstr(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<int>(c));
+      continue;
+    }
+    out += c;
+  }
+  return out + '"';
+}
+
+std::string result_json(const CalibrationResult& r) {
+  std::string s = "{\n  \"parameters\": {";
+  for (size_t j = 0; j < r.parameters.size(); ++j)
+    s += fmt::format("{}\n    {}: {}", j ? "," : "", jstr(r.parameters[j].name()),
+                     jnum(r.values[static_cast<Eigen::Index>(j)]));
+  s += "\n  },\n  \"initial\": {";
+  for (size_t j = 0; j < r.parameters.size(); ++j)
+    s += fmt::format("{}\n    {}: {}", j ? "," : "", jstr(r.parameters[j].name()),
+                     jnum(r.initial[static_cast<Eigen::Index>(j)]));
+  s += "\n  },\n  \"standard_errors\": {";
+  for (size_t j = 0; j < r.parameters.size(); ++j)
+    s += fmt::format("{}\n    {}: {}", j ? "," : "", jstr(r.parameters[j].name()),
+                     jnum(r.standard_errors[static_cast<Eigen::Index>(j)]));
+  s += fmt::format("\n  }},\n  \"iterations\": {},\n  \"converged\": {},\n", r.iterations,
+                   r.converged ? "true" : "false");
+  s += fmt::format("  \"rms_before_mm\": {},\n  \"rms_after_mm\": {},\n  \"sigma_hat_mm\": {},\n",
+                   jnum(r.rms_before_mm), jnum(r.rms_after_mm), jnum(r.sigma_hat_mm));
+  s += "  \"singular_values\": [";
+  const Eigen::VectorXd& sv = r.observability.singular_values;
+  for (Eigen::Index k = 0; k < sv.size(); ++k)
+    s += (k ? ", " : "") + jnum(sv[k]);
+  s += fmt::format("],\n  \"condition_number\": {},\n  \"rank\": {},\n  \"unobservable\": [",
+                   jnum(r.observability.condition_number), r.observability.rank);
+  for (size_t k = 0; k < r.observability.unobservable.size(); ++k)
+    s += (k ? ", " : "") + jstr(r.observability.unobservable[k].description);
+  s += "]\n}\n";
+  return s;
+}
+
+std::string with_unit(const CalibrationParameter& p, double v) {
+  return p.is_angle() ? fmt::format("{:.9f} rad", v) : fmt::format("{:.6f} mm", v);
+}
+
+int run_calibrate(const CalibrateArgs& args) {
+  if (args.cell_path.empty() || args.readings.empty())
+    throw Error(ErrorCode::bad_input,
+                "calibrate: --cell and --readings are required (or use 'calibrate plan' or "
+                "'calibrate simulate'; see --help)");
+  const Cell cell = load_cell(args.cell_path);
+  const std::vector<CalibrationParameter> params = parse_calibration_parameters(args.params, cell);
+  const std::vector<CalibrationPoint> points = load_readings_csv(args.readings, cell);
+  CalibrationOptions opt;
+  opt.allow_partial = args.allow_partial;
+  const CalibrationResult r = calibrate(cell, params, points, opt);
+
+  fmt::print("{} readings, {} parameters\n", points.size(), params.size());
+  fmt::print("{:<12} {:>18} {:>18} {:>14} {:>12}\n", "parameter", "before", "after", "change",
+             "std. error");
+  for (size_t j = 0; j < params.size(); ++j) {
+    const auto i = static_cast<Eigen::Index>(j);
+    const CalibrationParameter& p = params[j];
+    const double change = r.values[i] - r.initial[i];
+    const double se = r.standard_errors[i];
+    fmt::print("{:<12} {:>18} {:>18} {:>14} {:>12}\n", p.name(), with_unit(p, r.initial[i]),
+               with_unit(p, r.values[i]),
+               p.is_angle() ? fmt::format("{:+.5f} deg", rad_to_deg(change))
+                            : fmt::format("{:+.5f} mm", change),
+               !std::isfinite(se) ? std::string("-")
+               : p.is_angle()     ? fmt::format("{:.5f} deg", rad_to_deg(se))
+                                  : fmt::format("{:.5f} mm", se));
+  }
+  fmt::print("iterations: {}{}\n", r.iterations, r.converged ? "" : " (did not converge)");
+  fmt::print("RMS of the residuals: {:.6f} mm before, {:.6f} mm after\n", r.rms_before_mm,
+             r.rms_after_mm);
+  std::string sv;
+  for (Eigen::Index k = 0; k < r.observability.singular_values.size(); ++k)
+    sv += fmt::format("{}{:.6g}", k ? " " : "", r.observability.singular_values[k]);
+  fmt::print("singular values of the scaled W: {} (condition number {:.4g}, rank {} of {})\n", sv,
+             r.observability.condition_number, r.observability.rank, params.size());
+  if (r.observability.rank_deficient())
+    fmt::print("not identified (partial calibration): {}\n", r.observability.summary());
+  if (!args.json.empty())
+    write_file(args.json, result_json(r));
+  if (!args.out.empty()) {
+    const std::time_t now = std::time(nullptr);
+    char date[32] = "";
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    std::string changed;
+    for (size_t j = 0; j < params.size(); ++j) {
+      const auto i = static_cast<Eigen::Index>(j);
+      changed += fmt::format(
+          "{}{} {}", j ? ", " : "", params[j].name(),
+          params[j].is_angle() ? fmt::format("{:+.6f} deg", rad_to_deg(r.values[i] - r.initial[i]))
+                               : fmt::format("{:+.6f} mm", r.values[i] - r.initial[i]));
+    }
+    const std::string comment = fmt::format(
+        "calibrated by redpost calibrate on {} from {} ({} readings): RMS {:.4f} mm before, "
+        "{:.4f} mm after, {} iterations; changes: {}",
+        date, std::filesystem::path(args.readings).filename().string(), points.size(),
+        r.rms_before_mm, r.rms_after_mm, r.iterations, changed);
+    write_file(args.out, calibrated_cell_xml(read_text_file(args.cell_path), args.cell_path, params,
+                                             r.values, comment));
+    fmt::print("calibrated cell: {}\n", args.out);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Runner add_calibrate_command(CLI::App& app) {
+  auto cal = std::make_shared<CalibrateArgs>();
+  auto plan = std::make_shared<PlanArgs>();
+  auto sim = std::make_shared<SimulateArgs>();
+
+  CLI::App* c = app.add_subcommand(
+      "calibrate",
+      "Calibrate the external axes from laser readings on the planes x, y, z = 0 of the base "
+      "frame (Andres et al. 2011; docs/calibration.md). Without a subcommand: identify the "
+      "parameters from a readings file.");
+  c->require_subcommand(0, 1);
+  c->add_option("--cell", cal->cell_path, "Nominal cell definition (XML)");
+  c->add_option("--readings", cal->readings,
+                "Readings CSV: plane,distance,x,y,z,a,b,c,q1,q2 or plane,distance,q1..qn");
+  c->add_option("--params", cal->params,
+                "Parameters to identify, comma-separated link<i>.<alpha|a|theta|d> (default: "
+                "link1.alpha,link1.a,link1.theta,link1.d,link2.theta,link2.d)");
+  c->add_flag("--allow-partial", cal->allow_partial,
+              "On rank deficiency, identify only the observable combinations instead of refusing");
+  c->add_option("--json", cal->json, "Write the result as JSON to this file");
+  c->add_option("-o,--output", cal->out,
+                "Write the calibrated cell: the --cell file with only the identified <dh> values "
+                "changed and a comment recording the date and RMS");
+
+  auto add_plan_options = [](CLI::App* s, PlanArgs& a) {
+    s->add_option("--cell", a.cell_path, "Nominal cell definition (XML)")->required();
+    s->add_option("--grid", a.grid, "A grid x grid mesh per plane (default 6)");
+    s->add_option("--stand-off", a.stand_off_mm,
+                  "Distance of the commanded TCP from its plane, mm (default 0)");
+    s->add_option("--configs", a.configs,
+                  "External configurations, ';'-separated, values in chain order, revolute in "
+                  "deg, prismatic in mm (default \"0,700;45,300\")");
+  };
+  CLI::App* p = c->add_subcommand(
+      "plan",
+      "Plan the measurement: writes DIR/readings_template.csv, the commanded poses and "
+      "external joints of every point, with the distance column to fill in");
+  add_plan_options(p, *plan);
+  p->add_option("-o,--output", plan->out, "Output directory")->required();
+
+  CLI::App* s = c->add_subcommand(
+      "simulate", "Synthetic readings of the plan from a perturbed 'true' cell, for trials");
+  add_plan_options(s, sim->plan);
+  s->add_option("--true", sim->true_path, "The 'true' cell definition (XML)")->required();
+  s->add_option("--noise-mm", sim->noise_mm, "Gaussian sensor noise sigma, mm (default 0.035)");
+  s->add_option("--seed", sim->seed, "Noise seed (default 1)");
+  s->add_option("--form", sim->form,
+                "pose: commanded pose and external joints (default); joints: every joint");
+  s->add_option("-o,--output", sim->plan.out, "Readings CSV to write")->required();
+
+  return [cal, plan, sim, p, s] {
+    if (p->parsed())
+      return run_plan(*plan);
+    if (s->parsed())
+      return run_simulate(*sim);
+    return run_calibrate(*cal);
+  };
+}
+
+}  // namespace redpost::cli
