@@ -15,19 +15,13 @@
 #include "redpost/error.hpp"
 #include "redpost/kuka_abc.hpp"
 #include "redpost/text_file.hpp"
+#include "text_util.hpp"
 
 namespace redpost {
 
 namespace {
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b])))
-    ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])))
-    --e;
-  return s.substr(b, e - b);
-}
+using detail::trim;
 
 std::string lower(std::string s) {
   for (char& c : s)

@@ -15,6 +15,7 @@
 #include "redpost/error.hpp"
 #include "redpost/krl_diff.hpp"
 #include "redpost/text_file.hpp"
+#include "text_util.hpp"
 
 namespace redpost {
 
@@ -35,14 +36,7 @@ bool ident_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';
 }
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b])))
-    ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])))
-    --e;
-  return s.substr(b, e - b);
-}
+using detail::trim;
 
 // The code of a line: the comment (from ';' outside quotes) removed, and the contents of
 // "strings" and 'B010' literals blanked so that they are not read as identifiers.

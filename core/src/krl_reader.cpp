@@ -18,6 +18,7 @@
 
 #include "redpost/error.hpp"
 #include "redpost/text_file.hpp"
+#include "text_util.hpp"
 
 namespace redpost {
 
@@ -31,14 +32,7 @@ std::string upper(std::string s) {
   return s;
 }
 
-std::string trim(const std::string& s) {
-  std::size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b])))
-    ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])))
-    --e;
-  return s.substr(b, e - b);
-}
+using detail::trim;
 
 bool is_ident_char(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';

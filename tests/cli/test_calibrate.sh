@@ -3,47 +3,9 @@
 # it, on the Andres cell with a "true" cell whose link 1 d is off by +0.4 mm.
 #
 #   test_calibrate.sh <path-to-redpost> <source-dir>
-set -euo pipefail
-
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 <path-to-redpost> <source-dir>" >&2
-  exit 1
-fi
-BIN=$1
-SRC=$2
+. "$(dirname "$0")/harness.sh" cli.calibrate "$@"
 ANDRES="$SRC/definitions/cells/andres2011_kr15_track_table.xml"
-
-[[ -x "$BIN" ]] || { echo "cli.calibrate: FAIL: '$BIN' is not an executable" >&2; exit 1; }
 [[ -f "$ANDRES" ]] || { echo "cli.calibrate: FAIL: no cell file '$ANDRES'" >&2; exit 1; }
-
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/redpost_cli_calibrate.XXXXXX")
-trap 'rm -rf "$TMP"' EXIT
-
-checks=0
-current=""
-
-fail() {
-  {
-    echo "cli.calibrate: FAIL: ${current}: $*"
-    echo "--- stdout:"; cat "$TMP/out" 2>/dev/null || true
-    echo "--- stderr:"; cat "$TMP/err" 2>/dev/null || true
-    echo "--- exit code: ${RC:-?}"
-  } >&2
-  exit 1
-}
-
-begin() { current=$1; }
-passed() { checks=$((checks + 1)); }
-
-# run <args...>: runs redpost, stdout to $TMP/out, stderr to $TMP/err, exit code to RC.
-run() {
-  set +e
-  "$BIN" "$@" >"$TMP/out" 2>"$TMP/err"
-  RC=$?
-  set -e
-}
-
-expect_rc() { [[ $RC -eq $1 ]] || fail "exit code $RC, expected $1"; }
 
 # |value(json key) - expected| <= tol
 close() {

@@ -6,42 +6,9 @@
 # diff: a golden program against itself (tolerance 0), a coordinate moved by 0.05 mm, a motion
 # inserted in the middle, equivalent A, B, C forms, JSON output, directories, errors.
 # check: golden programs clean, each finding at its line, --cell limits, the evaluation files.
-set -euo pipefail
-
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 <path-to-redpost> <source-dir>" >&2
-  exit 1
-fi
-BIN=$1
-SRC=$2
+. "$(dirname "$0")/harness.sh" cli.diff "$@"
 GOLDEN="$SRC/tests/golden"
 CELL="$SRC/definitions/cells/andres2011_kr15_track_table.xml"
-
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/redpost_cli_diff.XXXXXX")
-trap 'rm -rf "$TMP"' EXIT
-
-checks=0
-current=""
-fail() {
-  {
-    echo "cli.diff: FAIL: ${current}: $*"
-    echo "--- stdout:"; cat "$TMP/out" 2>/dev/null || true
-    echo "--- stderr:"; cat "$TMP/err" 2>/dev/null || true
-    echo "--- exit code: ${RC:-?}"
-  } >&2
-  exit 1
-}
-begin() { current=$1; }
-passed() { checks=$((checks + 1)); }
-run() {
-  set +e
-  "$BIN" "$@" >"$TMP/out" 2>"$TMP/err"
-  RC=$?
-  set -e
-}
-expect_rc() { [[ $RC -eq $1 ]] || fail "exit code $RC, expected $1"; }
-expect_out() { grep -qF -- "$1" "$TMP/out" || fail "no '$1' in stdout"; }
-expect_err() { grep -qF -- "$1" "$TMP/err" || fail "no '$1' in stderr"; }
 
 # ---- diff ------------------------------------------------------------------------------------
 begin "golden vs itself, tolerance 0"

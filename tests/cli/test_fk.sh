@@ -5,54 +5,11 @@
 #
 # Checks the KR15/2 home pose, the input syntax (commas, spaces, '#' comments, blank lines), the
 # Jacobian layout, the printed precision, and the exit codes and messages on bad input.
-set -euo pipefail
-
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 <path-to-redpost> <source-dir>" >&2
-  exit 1
-fi
-BIN=$1
-SRC=$2
+. "$(dirname "$0")/harness.sh" cli.fk "$@"
 KR15="$SRC/definitions/cells/kr15_2.xml"
 ANDRES="$SRC/definitions/cells/andres2011_kr15_track_table.xml"
-
-[[ -x "$BIN" ]] || { echo "cli.fk: FAIL: '$BIN' is not an executable" >&2; exit 1; }
 [[ -f "$KR15" ]] || { echo "cli.fk: FAIL: no cell file '$KR15'" >&2; exit 1; }
 
-TMP=$(mktemp -d "${TMPDIR:-/tmp}/redpost_cli_fk.XXXXXX")
-trap 'rm -rf "$TMP"' EXIT
-
-checks=0
-current=""
-
-fail() {
-  {
-    echo "cli.fk: FAIL: ${current}: $*"
-    echo "--- stdin:";  cat "$TMP/in" 2>/dev/null || true
-    echo "--- stdout:"; cat "$TMP/out" 2>/dev/null || true
-    echo "--- stderr:"; cat "$TMP/err" 2>/dev/null || true
-    echo "--- exit code: ${RC:-?}"
-  } >&2
-  exit 1
-}
-
-begin() { current=$1; }
-passed() { checks=$((checks + 1)); }
-
-# run <stdin text> <redpost arguments...>: sets RC, OUT, ERR. Input comes from a file, not a pipe,
-# so that an early exit of redpost cannot turn into a SIGPIPE status.
-run() {
-  printf '%s' "$1" >"$TMP/in"
-  shift
-  RC=0
-  "$BIN" "$@" <"$TMP/in" >"$TMP/out" 2>"$TMP/err" || RC=$?
-  OUT=$(cat "$TMP/out")
-  ERR=$(cat "$TMP/err")
-}
-
-expect_rc() {
-  [[ "$RC" -eq "$1" ]] || fail "expected exit code $1, got $RC"
-}
 
 expect_lines() {  # number of lines on stdout
   local n
@@ -89,7 +46,7 @@ HOME_POSE_CHECK='
 
 # --- (a) the KR15/2 home pose in controller units ------------------------------------------------
 begin "(a) home pose, --axes"
-run $'0 -90 90 0 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n' fk --cell "$KR15" --axes
 expect_rc 0
 expect_lines 1
 expect_numeric
@@ -101,7 +58,7 @@ passed
 # --- (b) DH units, and the input syntax ---------------------------------------------------------
 # The same posture in DH units: theta_3 = A3 - 90 deg, theta_4 = A4 + 180 deg.
 begin "(b) DH units, plain line"
-run $'0 -1.5707963267948966 0 3.141592653589793 0 0\n' fk --cell "$KR15"
+run_with_stdin $'0 -1.5707963267948966 0 3.141592653589793 0 0\n' fk --cell "$KR15"
 expect_rc 0
 expect_lines 1
 awk "$HOME_POSE_CHECK" "$TMP/out" >"$TMP/why" || fail "$(cat "$TMP/why")"
@@ -110,7 +67,7 @@ PLAIN=$OUT
 passed
 
 begin "(b) DH units with commas, spaces, tabs, comments and blank lines"
-run $'# KR15/2 home in DH units\n\n   \n  0 ,  -1.5707963267948966,0,\t3.141592653589793 , +0,0   # trailing comment\n# done\n' \
+run_with_stdin $'# KR15/2 home in DH units\n\n   \n  0 ,  -1.5707963267948966,0,\t3.141592653589793 , +0,0   # trailing comment\n# done\n' \
   fk --cell "$KR15"
 expect_rc 0
 expect_lines 1
@@ -118,7 +75,7 @@ expect_lines 1
 passed
 
 begin "(b) one output line per input vector, in order"
-run $'0 -90 90 0 0 0\n# between\n30 -60 100 20 -45 -10\n\n0 -90 90 0 0 0' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n# between\n30 -60 100 20 -45 -10\n\n0 -90 90 0 0 0' fk --cell "$KR15" --axes
 expect_rc 0
 expect_lines 3
 [[ "$(sed -n 1p "$TMP/out")" == "$AXES_HOME" ]] || fail "line 1 is not the home pose"
@@ -128,7 +85,7 @@ passed
 
 # --- (c) the Jacobian: 6 * n numbers per line ---------------------------------------------------
 begin "(c) --jacobian, kr15_2 (n = 6)"
-run $'0 -90 90 0 0 0\n30 -60 100 20 -45 -10\n' fk --cell "$KR15" --axes --jacobian
+run_with_stdin $'0 -90 90 0 0 0\n30 -60 100 20 -45 -10\n' fk --cell "$KR15" --axes --jacobian
 expect_rc 0
 expect_lines 2
 expect_numeric
@@ -137,7 +94,7 @@ awk 'NF != 36 { print "line " NR ": " NF " numbers"; bad = 1 } END { exit bad }'
 passed
 
 begin "(c) --jacobian, andres2011 (n = 9)"
-run $'0 500 0 -90 90 0 90 0 0\n' fk --cell "$ANDRES" --axes --jacobian
+run_with_stdin $'0 500 0 -90 90 0 90 0 0\n' fk --cell "$ANDRES" --axes --jacobian
 expect_rc 0
 expect_lines 1
 expect_numeric
@@ -147,7 +104,7 @@ passed
 
 # --- (d) 12 significant digits ------------------------------------------------------------------
 begin "(d) 12 significant digits"
-run $'30 -60 100 20 -45 -10\n' fk --cell "$KR15" --axes
+run_with_stdin $'30 -60 100 20 -45 -10\n' fk --cell "$KR15" --axes
 expect_rc 0
 expect_lines 1
 expect_numeric
@@ -162,7 +119,7 @@ passed
 
 # --- (e) bad input lines: exit 2, '<stdin>:LINE:' on stderr, the good lines still printed -------
 begin "(e) a non-number on line 3"
-run $'0 -90 90 0 0 0\n30 -60 100 20 -45 -10\n0 -90 abc 0 0 0\n0 -90 90 0 0 0\n' \
+run_with_stdin $'0 -90 90 0 0 0\n30 -60 100 20 -45 -10\n0 -90 abc 0 0 0\n0 -90 90 0 0 0\n' \
   fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 2
@@ -172,7 +129,7 @@ expect_err_contains "'abc' is not a number"
 passed
 
 begin "(e) a number with trailing garbage"
-run $'0 -90 90 0 0 0\n0 -90 12a 0 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n0 -90 12a 0 0 0\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 1
 expect_err_contains "<stdin>:2:"
@@ -180,7 +137,7 @@ expect_err_contains "'12a' is not a number"
 passed
 
 begin "(e) a wrong count on line 3"
-run $'0 -90 90 0 0 0\n0 -90 90 0 0 0\n0 -90 90 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n0 -90 90 0 0 0\n0 -90 90 0 0\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 2
 expect_err_contains "<stdin>:3:"
@@ -189,7 +146,7 @@ expect_err_contains "got 5"
 passed
 
 begin "(e) too many values"
-run $'0 -90 90 0 0 0 0\n' fk --cell "$KR15"
+run_with_stdin $'0 -90 90 0 0 0 0\n' fk --cell "$KR15"
 expect_rc 2
 expect_lines 0
 expect_err_contains "<stdin>:1:"
@@ -197,7 +154,7 @@ expect_err_contains "got 7"
 passed
 
 begin "(e) nan on line 3"
-run $'0 -90 90 0 0 0\n0 -90 90 0 0 0\nnan -90 90 0 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n0 -90 90 0 0 0\nnan -90 90 0 0 0\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 2
 expect_err_contains "<stdin>:3:"
@@ -205,7 +162,7 @@ expect_err_contains "'nan' is not a finite number"
 passed
 
 begin "(e) inf"
-run $'0 -90 90 0 0 -inf\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 -inf\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 0
 expect_err_contains "<stdin>:1:"
@@ -213,7 +170,7 @@ expect_err_contains "'-inf' is not a finite number"
 passed
 
 begin "(e) blank and comment lines count in the line number"
-run $'# header\n\n0 -90 90 0 0 0\n   \n0 -90 x 0 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'# header\n\n0 -90 90 0 0 0\n   \n0 -90 x 0 0 0\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 1
 expect_err_contains "<stdin>:5:"
@@ -222,7 +179,7 @@ passed
 # --- (f) a missing cell file --------------------------------------------------------------------
 begin "(f) missing cell file"
 MISSING="$TMP/no_such_cell.xml"
-run $'0 0 0 0 0 0\n' fk --cell "$MISSING"
+run_with_stdin $'0 0 0 0 0 0\n' fk --cell "$MISSING"
 expect_rc 2
 expect_lines 0
 expect_err_contains "$MISSING"
@@ -231,7 +188,7 @@ passed
 
 # --- (g) a missing --cell option ----------------------------------------------------------------
 begin "(g) missing --cell"
-run $'0 0 0 0 0 0\n' fk --axes
+run_with_stdin $'0 0 0 0 0 0\n' fk --axes
 [[ "$RC" -ne 0 ]] || fail "expected a non-zero exit code"
 expect_rc 2
 expect_lines 0
@@ -241,7 +198,7 @@ passed
 # --- (e, last) a doubled sign -------------------------------------------------------------------
 # Kept last so that every check above has run if this one fails.
 begin "(e) a doubled sign '+-5' is not a number"
-run $'0 -90 90 0 0 0\n+-5 -90 90 0 0 0\n' fk --cell "$KR15" --axes
+run_with_stdin $'0 -90 90 0 0 0\n+-5 -90 90 0 0 0\n' fk --cell "$KR15" --axes
 expect_rc 2
 expect_lines 1
 expect_err_contains "<stdin>:2:"
