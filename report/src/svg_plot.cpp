@@ -1,0 +1,1 @@
+// The report writer (issue 9).
