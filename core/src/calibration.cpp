@@ -57,7 +57,11 @@ double field_value(const Joint& j, DhField f) {
   throw Error(ErrorCode::bad_input, message);
 }
 
-using AD = Eigen::AutoDiffScalar<Eigen::VectorXd>;
+// The derivative vector has a fixed capacity: no heap allocation per operation, which makes W
+// several times faster to build than with a dynamic vector.
+constexpr int kMaxCalibrationParameters = 24;
+using ADDerivatives = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCalibrationParameters, 1>;
+using AD = Eigen::AutoDiffScalar<ADDerivatives>;
 
 // The DH parameters of every link as scalars of type S: the cell's values, with the calibrated
 // ones replaced by `values` (seeded as AD variables when S is AD).
@@ -305,7 +309,34 @@ JointVector joints_for_commanded_frame(const Cell& nominal, const std::vector<in
       << " mm cannot be reached: " << to_string(r.status);
     throw Error(ErrorCode::unreachable, m.str());
   }
-  return r.q;
+  // The first solution may sit on a joint limit (a joint is locked there when the solver meets
+  // it). The spin about the beam is free (the reading does not depend on it), so let the
+  // null-space goals (centring, limit avoidance) move the posture off the limits while the TCP
+  // stays on the commanded frame: track the same target until the posture settles.
+  // Only postures near a limit need it (the others are left as solved, which is also fast).
+  auto near_limit = [&nominal, &topt](const JointVector& q) {
+    for (int j = 0; j < nominal.size(); ++j) {
+      const Joint& jt = nominal.joint(j);
+      if (topt.locked.test(static_cast<size_t>(j)) || jt.type == JointType::virtual_spin)
+        continue;
+      const double margin = jt.type == JointType::prismatic ? 5.0 : deg_to_rad(5.0);
+      if (q[j] - jt.lower < margin || jt.upper - q[j] < margin)
+        return true;
+    }
+    return false;
+  };
+  tracker.reset(r.q);
+  JointVector q = r.q;
+  for (int k = 0; k < 400 && near_limit(q); ++k) {
+    const PoseResult s = tracker.track(TcpTarget::frame(T_B_commanded));
+    if (s.status != PoseStatus::converged)
+      break;
+    const double moved = (s.q - q).cwiseAbs().maxCoeff();
+    q = s.q;
+    if (moved < 1e-9)
+      break;
+  }
+  return q;
 }
 
 std::vector<CalibrationPoint> plan_calibration(const Cell& nominal,
@@ -379,6 +410,9 @@ Eigen::MatrixXd observation_matrix(const Cell& cell,
   const auto mp = static_cast<Eigen::Index>(params.size());
   if (values.size() != mp)
     throw Error(ErrorCode::internal, "observation_matrix: one value per parameter expected");
+  if (mp > kMaxCalibrationParameters)
+    fail("calibration: at most " + std::to_string(kMaxCalibrationParameters) +
+         " parameters can be identified at once, " + std::to_string(mp) + " were given");
   LinkParams<AD> P;
   for (int i = 0; i < cell.size(); ++i) {
     const Joint& j = cell.joint(i);
@@ -521,6 +555,106 @@ ObservabilityReport analyse_observability(const Eigen::MatrixXd& W,
   return rep;
 }
 
+const char* to_string(RobustLoss loss) {
+  switch (loss) {
+    case RobustLoss::none:
+      return "none";
+    case RobustLoss::huber:
+      return "huber";
+    case RobustLoss::cauchy:
+      return "cauchy";
+  }
+  return "none";
+}
+
+RobustLoss parse_robust_loss(const std::string& name) {
+  if (name == "none")
+    return RobustLoss::none;
+  if (name == "huber")
+    return RobustLoss::huber;
+  if (name == "cauchy")
+    return RobustLoss::cauchy;
+  fail("unknown loss '" + name + "' (use none, huber or cauchy)");
+}
+
+namespace {
+
+// The tuning constants that give 95 % efficiency on Gaussian noise.
+constexpr double kHuberK = 1.345;
+constexpr double kCauchyC = 2.385;
+
+// rho(r / s), scaled so that it equals (r/s)^2 for small residuals (the least-squares cost).
+double robust_rho(RobustLoss loss, double u) {
+  const double a = std::abs(u);
+  switch (loss) {
+    case RobustLoss::huber:
+      return a <= kHuberK ? u * u : 2.0 * kHuberK * a - kHuberK * kHuberK;
+    case RobustLoss::cauchy:
+      return kCauchyC * kCauchyC * std::log1p(u * u / (kCauchyC * kCauchyC));
+    case RobustLoss::none:
+      break;
+  }
+  return u * u;
+}
+
+// The IRLS weight rho'(u) / (2u): the step of a weighted least-squares problem with these
+// weights is the Gauss-Newton step of the robust cost.
+double robust_weight(RobustLoss loss, double u) {
+  const double a = std::abs(u);
+  switch (loss) {
+    case RobustLoss::huber:
+      return a <= kHuberK ? 1.0 : kHuberK / a;
+    case RobustLoss::cauchy:
+      return 1.0 / (1.0 + u * u / (kCauchyC * kCauchyC));
+    case RobustLoss::none:
+      break;
+  }
+  return 1.0;
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty())
+    return 0.0;
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0)
+    m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  return m;
+}
+
+// The residual scale: given, or 1.4826 MAD (a consistent estimate of sigma for Gaussian noise
+// that a minority of outliers does not move).
+double residual_scale(const CalibrationOptions& o, const Eigen::VectorXd& r) {
+  if (o.loss_scale_mm > 0.0)
+    return o.loss_scale_mm;
+  std::vector<double> v(r.data(), r.data() + r.size());
+  const double med = median_of(v);
+  for (double& x : v)
+    x = std::abs(x - med);
+  return std::max(1.4826 * median_of(v), 1e-4);
+}
+
+double robust_cost(const CalibrationOptions& o, const Eigen::VectorXd& r, double scale) {
+  if (o.loss == RobustLoss::none)
+    return r.squaredNorm();
+  double c = 0.0;
+  for (Eigen::Index i = 0; i < r.size(); ++i)
+    c += robust_rho(o.loss, r[i] / scale);
+  return c * scale * scale;
+}
+
+Eigen::VectorXd robust_weights(const CalibrationOptions& o, const Eigen::VectorXd& r,
+                               double scale) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());
+  if (o.loss != RobustLoss::none)
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+      w[i] = robust_weight(o.loss, r[i] / scale);
+  return w;
+}
+
+}  // namespace
+
 CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationParameter>& params,
                             const std::vector<CalibrationPoint>& points,
                             const CalibrationOptions& options) {
@@ -542,8 +676,14 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
   Eigen::VectorXd pred;
   Eigen::MatrixXd W = observation_matrix(nominal, params, beta, points, options.model, &pred);
   Eigen::VectorXd r = readings - pred;  // Delta p of eq. 8
-  double cost = r.squaredNorm();
-  res.rms_before_mm = std::sqrt(cost / static_cast<double>(np));
+  res.rms_before_mm = std::sqrt(r.squaredNorm() / static_cast<double>(np));
+  res.value_history.push_back(beta);
+  res.rms_history_mm.push_back(res.rms_before_mm);
+  // Least squares: weights 1 and the plain sum of squares. A robust loss reweights the rows at
+  // every iteration (IRLS) with the scale of that iteration.
+  double scale = residual_scale(options, r);
+  Eigen::VectorXd w = robust_weights(options, r, scale);
+  double cost = robust_cost(options, r, scale);
 
   ObservabilityReport obs = analyse_observability(W, params, options.rank_tolerance);
   if (obs.rank_deficient() && !options.allow_partial) {
@@ -553,12 +693,14 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
 
   double lambda = 0.0;  // Levenberg-Marquardt damping, in column-scaled coordinates
   for (int it = 0; it < options.max_iterations; ++it) {
-    const Eigen::VectorXd D = column_norms(W);
-    const Eigen::MatrixXd Ws = W * D.cwiseInverse().asDiagonal();
+    const Eigen::VectorXd sqrt_w = w.cwiseSqrt();
+    const Eigen::MatrixXd Wr = sqrt_w.asDiagonal() * W;
+    const Eigen::VectorXd D = column_norms(Wr);
+    const Eigen::MatrixXd Ws = Wr * D.cwiseInverse().asDiagonal();
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(Ws, Eigen::ComputeThinU | Eigen::ComputeThinV);
     const Eigen::VectorXd& s = svd.singularValues();
     const double smax = s.size() > 0 ? s[0] : 0.0;
-    const Eigen::VectorXd Utr = svd.matrixU().transpose() * r;
+    const Eigen::VectorXd Utr = svd.matrixU().transpose() * sqrt_w.cwiseProduct(r);
     bool accepted = false;
     for (int attempt = 0; attempt < 40 && !accepted; ++attempt) {
       // Eq. 9 (lambda = 0): dbeta = W^+ dp, through the SVD of the scaled W; with lambda > 0
@@ -572,7 +714,7 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
       Eigen::MatrixXd W_new =
           observation_matrix(nominal, params, beta_new, points, options.model, &pred_new);
       const Eigen::VectorXd r_new = readings - pred_new;
-      const double cost_new = r_new.squaredNorm();
+      const double cost_new = robust_cost(options, r_new, scale);
       // Eq. 10 and the absolute step tolerance.
       bool small = true;
       for (Eigen::Index j = 0; j < mp; ++j)
@@ -584,8 +726,12 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
         beta = beta_new;
         W = std::move(W_new);
         r = r_new;
-        cost = cost_new;
         ++res.iterations;
+        res.value_history.push_back(beta);
+        res.rms_history_mm.push_back(std::sqrt(r.squaredNorm() / static_cast<double>(np)));
+        scale = residual_scale(options, r);
+        w = robust_weights(options, r, scale);
+        cost = robust_cost(options, r, scale);
         accepted = true;
         lambda = lambda * 0.1 < 1e-12 * smax * smax ? 0.0 : lambda * 0.1;
         if (small) {
@@ -605,11 +751,31 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
   }
 
   res.values = beta;
-  res.rms_after_mm = std::sqrt(cost / static_cast<double>(np));
+  res.residuals_mm = r;
+  res.rms_after_mm = std::sqrt(r.squaredNorm() / static_cast<double>(np));
+  res.weights = w;
+  for (Eigen::Index i = 0; i < np; ++i)
+    if (w[i] < 0.5)
+      res.outliers.push_back(static_cast<int>(i));
+  // The statistics of a robust fit use the weighted rows: an outlier's small weight keeps it
+  // from inflating sigma_hat (a down-weighted reading counts as a fraction of one).
+  const Eigen::VectorXd sqrt_w_final = w.cwiseSqrt();
+  W = sqrt_w_final.asDiagonal() * W;
+  const double weighted_ss = sqrt_w_final.cwiseProduct(r).squaredNorm();
   res.observability = analyse_observability(W, params, options.rank_tolerance);
   const int rank = res.observability.rank;
   const double dof = static_cast<double>(np - rank);
-  res.sigma_hat_mm = dof > 0 ? std::sqrt(cost / dof) : 0.0;
+  // Least squares: sigma_hat^2 = RSS / (np - rank). A robust fit reports the robust scale
+  // (1.4826 MAD of the residuals, corrected for the degrees of freedom): a weighted RSS would
+  // still carry the down-weighted outliers' share.
+  if (options.loss == RobustLoss::none) {
+    res.sigma_hat_mm = dof > 0 ? std::sqrt(weighted_ss / dof) : 0.0;
+  } else {
+    CalibrationOptions mad = options;
+    mad.loss_scale_mm = 0.0;
+    res.sigma_hat_mm =
+        dof > 0 ? residual_scale(mad, r) * std::sqrt(static_cast<double>(np) / dof) : 0.0;
+  }
 
   // Standard errors: sigma_hat^2 (W^T W)^-1, through the SVD of the scaled W. A parameter with
   // a component in the null space (partial calibration) has none.
@@ -635,6 +801,108 @@ CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationPa
   }
   res.calibrated = apply_parameters(nominal, params, beta);
   return res;
+}
+
+// ---- Validation -----------------------------------------------------------------------------
+
+std::vector<int> external_joint_indices(const Cell& cell) {
+  std::vector<int> out;
+  for (int i = 0; i < cell.size(); ++i)
+    if (cell.joint(i).axis.kind == AxisKind::external)
+      out.push_back(i);
+  return out;
+}
+
+std::vector<CalibrationPoint> plan_validation(const Cell& nominal,
+                                              const ValidationPlanOptions& options) {
+  if (options.points < 1)
+    fail("validation plan: at least one point is needed");
+  const std::vector<int> ext =
+      options.external_joints.empty() ? external_joint_indices(nominal) : options.external_joints;
+  std::vector<std::pair<double, double>> ranges = options.ranges;
+  if (ranges.empty()) {
+    for (int j : ext) {
+      const Joint& jt = nominal.joint(j);
+      // The paper's section 3.3: theta_M in [0, pi], d_L in [0, 1000] mm.
+      if (jt.type == JointType::prismatic)
+        ranges.emplace_back(0.0, 1000.0);
+      else
+        ranges.emplace_back(0.0, kPi);
+    }
+  }
+  if (ranges.size() != ext.size())
+    fail("validation plan: " + std::to_string(ranges.size()) + " ranges for " +
+         std::to_string(ext.size()) + " external joints");
+  for (size_t k = 0; k < ext.size(); ++k) {
+    const Joint& jt = nominal.joint(ext[k]);
+    ranges[k].first = std::max(ranges[k].first, jt.lower);
+    ranges[k].second = std::min(ranges[k].second, jt.upper);
+    if (!(ranges[k].first <= ranges[k].second))
+      fail("validation plan: the range of joint '" + jt.name + "' lies outside its limits");
+  }
+  std::mt19937_64 rng(options.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto& off = options.model.plane_offset_mm;
+  const double w = options.half_width_mm;
+  std::vector<CalibrationPoint> points;
+  points.reserve(static_cast<size_t>(options.points));
+  for (int i = 0; i < options.points; ++i) {
+    std::vector<double> config(ext.size());
+    for (size_t k = 0; k < ext.size(); ++k)
+      config[k] = ranges[k].first + (ranges[k].second - ranges[k].first) * unit(rng);
+    const double u = -w + 2.0 * w * unit(rng);
+    const double v = unit(rng);
+    Eigen::Vector3d p;
+    if (options.plane == PlaneAxis::x)
+      p = {off[0], u, options.z_min_mm + (options.z_max_mm - options.z_min_mm) * v};
+    else if (options.plane == PlaneAxis::y)
+      p = {u, off[1], options.z_min_mm + (options.z_max_mm - options.z_min_mm) * v};
+    else
+      p = {u, -w + 2.0 * w * v, off[2]};
+    CalibrationPoint pt;
+    pt.plane = options.plane;
+    pt.configuration = i;
+    pt.T_B_commanded = commanded_frame(options.plane, p, options.stand_off_mm);
+    try {
+      pt.q = joints_for_commanded_frame(nominal, ext, config, pt.T_B_commanded,
+                                        options.perturbed_starts, options.seed);
+    } catch (const Error& e) {
+      throw Error(e.code(), "validation plan: point " + std::to_string(i + 1) + ": " + e.message());
+    }
+    pt.reading_mm = options.stand_off_mm;
+    points.push_back(pt);
+  }
+  return points;
+}
+
+DistanceStatistics distance_statistics(const Eigen::VectorXd& d) {
+  DistanceStatistics st;
+  st.count = static_cast<int>(d.size());
+  if (d.size() == 0)
+    return st;
+  const double n = static_cast<double>(d.size());
+  st.mean_mm = d.mean();
+  st.rms_mm = std::sqrt(d.squaredNorm() / n);
+  st.std_mm = d.size() > 1 ? std::sqrt((d.array() - st.mean_mm).square().sum() / (n - 1.0)) : 0.0;
+  st.max_abs_mm = d.cwiseAbs().maxCoeff();
+  return st;
+}
+
+ValidationResult validate_calibration(const Cell& nominal, const Cell& calibrated,
+                                      const std::vector<CalibrationPoint>& points,
+                                      const MeasurementModel& model) {
+  ValidationResult v;
+  const auto n = static_cast<Eigen::Index>(points.size());
+  v.before_mm.resize(n);
+  v.after_mm.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const CalibrationPoint& pt = points[static_cast<size_t>(i)];
+    v.before_mm[i] = pt.reading_mm - laser_reading(tcp_pose(nominal, pt.q), pt.plane, model);
+    v.after_mm[i] = pt.reading_mm - laser_reading(tcp_pose(calibrated, pt.q), pt.plane, model);
+  }
+  v.before = distance_statistics(v.before_mm);
+  v.after = distance_statistics(v.after_mm);
+  return v;
 }
 
 }  // namespace redpost

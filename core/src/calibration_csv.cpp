@@ -103,6 +103,8 @@ Header parse_header(const std::string& line, const SourceLocation& where, const 
       h.distance = col;
       continue;
     }
+    if (name == "point")  // the point number of the plan (the KRL comments'); informational
+      continue;
     bool pose = false;
     for (int k = 0; k < 6; ++k) {
       if (name == kPoseColumns[k]) {
@@ -115,8 +117,8 @@ Header parse_header(const std::string& line, const SourceLocation& where, const 
     const int q = joint_column_index(name);
     if (q < 0)
       throw Error(ErrorCode::bad_input,
-                  fmt::format("header: unknown column '{}' (expected plane, distance, x, y, z, a, "
-                              "b, c or q1..q{})",
+                  fmt::format("header: unknown column '{}' (expected point, plane, distance, x, y, "
+                              "z, a, b, c or q1..q{})",
                               names[c], cell.size()),
                   where);
     if (q >= cell.size())
@@ -311,6 +313,8 @@ std::string format_readings_csv(const Cell& cell, const std::vector<CalibrationP
       out += "q1..qn every joint in DH units (rad, mm)\n";
     }
   }
+  if (options.point_numbers)
+    out += "point,";
   out += "plane,distance";
   if (pose) {
     out += ",x,y,z,a,b,c";
@@ -321,7 +325,11 @@ std::string format_readings_csv(const Cell& cell, const std::vector<CalibrationP
       out += ",q" + std::to_string(q + 1);
   }
   out += '\n';
+  int number = 0;
   for (const CalibrationPoint& pt : points) {
+    ++number;
+    if (options.point_numbers)
+      out += std::to_string(number) + ',';
     if (pt.q.size() != cell.size())
       throw Error(ErrorCode::internal, fmt::format("a calibration point has {} joints, the cell {}",
                                                    pt.q.size(), cell.size()));

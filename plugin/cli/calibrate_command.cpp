@@ -1,11 +1,14 @@
 // `redpost calibrate`: in-situ calibration of the external axes from laser readings on three
 // planes (issue 7, docs/calibration.md).
 //
-//   redpost calibrate plan --cell C.xml [--grid 6] [--stand-off 0] [--configs "0,700;45,300"] -o
-//   DIR redpost calibrate simulate --cell C.xml --true TRUE.xml [--noise-mm 0.035] [--seed N] -o
-//   R.csv redpost calibrate --cell C.xml --readings R.csv [--params LIST] [--allow-partial] [--json
-//   J]
+//   redpost calibrate plan --cell C.xml [--grid 6] [--configs "0,700;45,300"]
+//                          [--validation N] -o DIR
+//   redpost calibrate simulate --cell C.xml --true TRUE.xml [--noise-mm 0.035] -o R.csv
+//   redpost calibrate --cell C.xml --readings R.csv [--validate V.csv] [--loss huber]
+//                     [--json J] [-o CALIBRATED.xml]
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -17,10 +20,13 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "definitions.hpp"
 #include "redpost/calibration.hpp"
 #include "redpost/calibration_csv.hpp"
+#include "redpost/calibration_program.hpp"
 #include "redpost/cell_xml.hpp"
 #include "redpost/error.hpp"
+#include "redpost/krl_template.hpp"
 #include "redpost/text_file.hpp"
 
 namespace redpost::cli {
@@ -32,7 +38,18 @@ struct PlanArgs {
   int grid = 6;
   double stand_off_mm = 0.0;
   std::string configs;
+  double half_width_mm = 200.0;
+  double z_min_mm = 150.0;
+  double z_max_mm = 450.0;
+  int validation = 0;  // > 0: random validation points instead of the meshes
+  std::uint64_t validation_seed = 7;
   std::string out;
+  // plan only: the KRL program
+  std::string templates;
+  double dwell_s = 2.0;
+  double retract_mm = 100.0;
+  std::string tool = "TOOL_DATA[2]";
+  std::string base = "BASE_DATA[1]";
 };
 
 struct SimulateArgs {
@@ -46,8 +63,11 @@ struct SimulateArgs {
 struct CalibrateArgs {
   std::string cell_path;
   std::string readings;
+  std::string validate;
   std::string params;
   bool allow_partial = false;
+  std::string loss = "none";
+  double loss_scale_mm = 0.0;
   std::string json;
   std::string out;
 };
@@ -92,13 +112,15 @@ std::vector<std::vector<double>> parse_configs(const std::string& text, const Ce
       s = comma == std::string::npos ? item.size() + 1 : comma + 1;
       values.push_back(parse_double(v, "--configs"));
     }
-    if (values.size() != external.size())
+    if (values.size() != external.size()) {
+      std::string names;
+      for (size_t k = 0; k < external.size(); ++k)
+        names += (k ? ", " : "") + cell.joint(external[k]).name;
       throw Error(ErrorCode::bad_input,
                   fmt::format("--configs: '{}' has {} values, expected {} (one per external "
                               "joint: {})",
-                              item, values.size(), external.size(),
-                              fmt::format("{}, {}", cell.joint(external[0]).name,
-                                          cell.joint(external[1]).name)));
+                              item, values.size(), external.size(), names));
+    }
     for (size_t k = 0; k < values.size(); ++k) {
       if (cell.joint(external[k]).type != JointType::prismatic)
         values[k] = deg_to_rad(values[k]);
@@ -112,12 +134,26 @@ std::vector<std::vector<double>> parse_configs(const std::string& text, const Ce
 
 CalibrationPlanOptions plan_options(const PlanArgs& args, const Cell& cell) {
   CalibrationPlanOptions opt;
-  if (cell.size() < 3)
-    throw Error(ErrorCode::bad_input, "calibrate: the cell needs two external joints and an arm");
+  opt.external_joints = external_joint_indices(cell);
+  if (opt.external_joints.empty())
+    throw Error(ErrorCode::bad_input,
+                fmt::format("calibrate: the cell '{}' maps no joint to an external axis (E1..E6): "
+                            "there is nothing to calibrate",
+                            cell.name));
+  if (args.configs.empty() && opt.external_joints.size() != 2)
+    throw Error(ErrorCode::bad_input,
+                fmt::format("calibrate: the cell has {} external joints; give their "
+                            "configurations with --configs",
+                            opt.external_joints.size()));
   if (args.grid < 2)
     throw Error(ErrorCode::bad_input, fmt::format("--grid: {} is below 2", args.grid));
   opt.grid = args.grid;
   opt.stand_off_mm = args.stand_off_mm;
+  if (!(args.half_width_mm > 0.0) || !(args.z_min_mm < args.z_max_mm))
+    throw Error(ErrorCode::bad_input, "--half-width must be > 0 and --z-min below --z-max (mm)");
+  opt.half_width_mm = args.half_width_mm;
+  opt.z_min_mm = args.z_min_mm;
+  opt.z_max_mm = args.z_max_mm;
   if (!args.configs.empty())
     opt.configurations = parse_configs(args.configs, cell, opt.external_joints);
   return opt;
@@ -133,23 +169,103 @@ void write_file(const std::string& path, const std::string& text) {
     throw Error(ErrorCode::io, fmt::format("error writing '{}'", path));
 }
 
+// The points of the plan: the meshes of eqs. 2-4, or with --validation N random points on the
+// table plane with random external joints (the paper's section 3.3).
+std::vector<CalibrationPoint> planned_points(const PlanArgs& args, const Cell& cell,
+                                             const CalibrationPlanOptions& opt) {
+  if (args.validation < 0)
+    throw Error(ErrorCode::bad_input, "--validation must not be negative");
+  if (args.validation == 0)
+    return plan_calibration(cell, opt);
+  ValidationPlanOptions v;
+  v.points = args.validation;
+  v.external_joints = opt.external_joints;
+  v.stand_off_mm = opt.stand_off_mm;
+  v.half_width_mm = opt.half_width_mm;
+  v.z_min_mm = opt.z_min_mm;
+  v.z_max_mm = opt.z_max_mm;
+  v.seed = args.validation_seed;
+  return plan_validation(cell, v);
+}
+
+// Writes text to path through a temporary file renamed into place, so that an interrupted run
+// never leaves a half-written file under the final name.
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".part";
+  write_file(tmp, text);
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(ErrorCode::io, fmt::format("cannot write '{}'", path));
+  }
+}
+
 int run_plan(const PlanArgs& args) {
   const Cell cell = load_cell(args.cell_path);
   const CalibrationPlanOptions opt = plan_options(args, cell);
-  std::vector<CalibrationPoint> points = plan_calibration(cell, opt);
+  const KrlTemplateSet templates =
+      load_krl_templates(args.templates.empty() ? default_krl_template() : args.templates);
+  const std::vector<CalibrationPoint> points = planned_points(args, cell, opt);
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec)
     throw Error(ErrorCode::io,
                 fmt::format("cannot create the directory '{}': {}", args.out, ec.message()));
+  const bool validation = args.validation > 0;
+  CalibrationProgramOptions popt;
+  popt.name = validation ? "calib_validate" : "calib_plan";
+  popt.output_dir = args.out;
+  popt.dwell_s = args.dwell_s;
+  popt.retract_mm = args.retract_mm;
+  popt.tool = args.tool;
+  popt.base = args.base;
+  popt.external_joints = opt.external_joints;
+  popt.header_comment = fmt::format("redpost calibrate plan, cell {}, {} points{}", cell.name,
+                                    points.size(), validation ? " (validation)" : "");
+  const std::vector<std::string> programs =
+      write_calibration_program(cell, points, templates, popt);
   ReadingsWriteOptions wopt;
   wopt.form = ReadingsForm::commanded_pose;
   wopt.external_joints = opt.external_joints;
   wopt.blank_distances = true;
-  const std::string path = (std::filesystem::path(args.out) / "readings_template.csv").string();
-  write_file(path, format_readings_csv(cell, points, wopt));
-  fmt::print("{} points ({} configurations, {}x{} grids): {}\n", points.size(),
-             opt.configurations.size(), opt.grid, opt.grid, path);
+  wopt.point_numbers = true;
+  const std::string path = (std::filesystem::path(args.out) /
+                            (validation ? "validation_template.csv" : "readings_template.csv"))
+                               .string();
+  write_file_atomic(path, format_readings_csv(cell, points, wopt));
+  if (validation)
+    fmt::print("{} validation points (random external joints, seed {}): {}\n", points.size(),
+               args.validation_seed, path);
+  else
+    fmt::print("{} points ({} configurations, {}x{} grids): {}\n", points.size(),
+               opt.configurations.size(), opt.grid, opt.grid, path);
+  for (const std::string& src : programs)
+    fmt::print("KRL program: {}\n", src);
+  // Points that run a joint close to its limit are legal but leave no room for the error being
+  // calibrated: say which, so that they are watched in T1 first.
+  std::string near;
+  int count = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (int j = 0; j < cell.size(); ++j) {
+      const Joint& jt = cell.joint(j);
+      if (jt.axis.kind != AxisKind::arm)
+        continue;
+      const double margin = std::min(points[i].q[j] - jt.lower, jt.upper - points[i].q[j]);
+      if (margin < deg_to_rad(2.0)) {
+        near += fmt::format("{}{} ({} {:.1f} deg from its limit)", count ? ", " : "", i + 1,
+                            axis_name(jt.axis), rad_to_deg(margin));
+        ++count;
+        break;
+      }
+    }
+  }
+  std::fflush(stdout);
+  if (count > 0)
+    fmt::print(stderr,
+               "redpost: warning: {} point(s) run an arm joint within 2 deg of its limit: {}; "
+               "run them in T1 first\n",
+               count, near);
   return kExitOk;
 }
 
@@ -162,7 +278,7 @@ int run_simulate(const SimulateArgs& args) {
   if (!(args.noise_mm >= 0.0))
     throw Error(ErrorCode::bad_input, "--noise-mm must not be negative");
   const CalibrationPlanOptions opt = plan_options(args.plan, cell);
-  std::vector<CalibrationPoint> points = plan_calibration(cell, opt);
+  std::vector<CalibrationPoint> points = planned_points(args.plan, cell, opt);
   simulate_readings(truth, points, args.noise_mm, args.seed, opt.model);
   ReadingsWriteOptions wopt;
   if (args.form == "pose")
@@ -172,7 +288,8 @@ int run_simulate(const SimulateArgs& args) {
   else
     throw Error(ErrorCode::bad_input, "--form must be 'pose' or 'joints'");
   wopt.external_joints = opt.external_joints;
-  write_file(args.plan.out, format_readings_csv(cell, points, wopt));
+  wopt.point_numbers = true;
+  write_file_atomic(args.plan.out, format_readings_csv(cell, points, wopt));
   fmt::print("{} simulated readings (noise {} mm, seed {}): {}\n", points.size(), args.noise_mm,
              args.seed, args.plan.out);
   return kExitOk;
@@ -201,7 +318,14 @@ std::string jstr(const std::string& s) {
   return out + '"';
 }
 
-std::string result_json(const CalibrationResult& r) {
+std::string stats_json(const DistanceStatistics& st) {
+  return fmt::format(
+      "{{\"count\": {}, \"mean_mm\": {}, \"rms_mm\": {}, \"std_mm\": {}, \"max_abs_mm\": {}}}",
+      st.count, jnum(st.mean_mm), jnum(st.rms_mm), jnum(st.std_mm), jnum(st.max_abs_mm));
+}
+
+std::string result_json(const CalibrationResult& r, const CalibrationOptions& opt,
+                        const ValidationResult* validation) {
   std::string s = "{\n  \"parameters\": {";
   for (size_t j = 0; j < r.parameters.size(); ++j)
     s += fmt::format("{}\n    {}: {}", j ? "," : "", jstr(r.parameters[j].name()),
@@ -226,7 +350,26 @@ std::string result_json(const CalibrationResult& r) {
                    jnum(r.observability.condition_number), r.observability.rank);
   for (size_t k = 0; k < r.observability.unobservable.size(); ++k)
     s += (k ? ", " : "") + jstr(r.observability.unobservable[k].description);
-  s += "]\n}\n";
+  s += "],\n";
+  s += fmt::format("  \"loss\": {},\n  \"outliers\": [", jstr(to_string(opt.loss)));
+  for (size_t k = 0; k < r.outliers.size(); ++k)
+    s += fmt::format("{}{}", k ? ", " : "", r.outliers[k] + 1);  // 1-based reading numbers
+  s += "],\n  \"residuals\": " + stats_json(distance_statistics(r.residuals_mm)) + ",\n";
+  s += "  \"history\": [";
+  for (size_t k = 0; k < r.value_history.size(); ++k) {
+    s += fmt::format("{}\n    {{\"iteration\": {}, \"rms_mm\": {}, \"parameters\": {{",
+                     k ? "," : "", k, jnum(r.rms_history_mm[k]));
+    for (size_t j = 0; j < r.parameters.size(); ++j)
+      s += fmt::format("{}{}: {}", j ? ", " : "", jstr(r.parameters[j].name()),
+                       jnum(r.value_history[k][static_cast<Eigen::Index>(j)]));
+    s += "}}";
+  }
+  s += "\n  ]";
+  if (validation) {
+    s += ",\n  \"validation\": {\n    \"before\": " + stats_json(validation->before) +
+         ",\n    \"after\": " + stats_json(validation->after) + "\n  }";
+  }
+  s += "\n}\n";
   return s;
 }
 
@@ -242,9 +385,20 @@ int run_calibrate(const CalibrateArgs& args) {
   const Cell cell = load_cell(args.cell_path);
   const std::vector<CalibrationParameter> params = parse_calibration_parameters(args.params, cell);
   const std::vector<CalibrationPoint> points = load_readings_csv(args.readings, cell);
+  // Read the validation file before the (longer) identification: a bad file fails fast.
+  std::vector<CalibrationPoint> vpoints;
+  if (!args.validate.empty())
+    vpoints = load_readings_csv(args.validate, cell);
   CalibrationOptions opt;
   opt.allow_partial = args.allow_partial;
+  opt.loss = parse_robust_loss(args.loss);
+  if (!(args.loss_scale_mm >= 0.0) || !std::isfinite(args.loss_scale_mm))
+    throw Error(ErrorCode::bad_input, "--loss-scale must be a number >= 0 (0: estimated)");
+  opt.loss_scale_mm = args.loss_scale_mm;
   const CalibrationResult r = calibrate(cell, params, points, opt);
+  ValidationResult validation;
+  if (!vpoints.empty())
+    validation = validate_calibration(cell, r.calibrated, vpoints, opt.model);
 
   fmt::print("{} readings, {} parameters\n", points.size(), params.size());
   fmt::print("{:<12} {:>18} {:>18} {:>14} {:>12}\n", "parameter", "before", "after", "change",
@@ -272,8 +426,25 @@ int run_calibrate(const CalibrateArgs& args) {
              r.observability.condition_number, r.observability.rank, params.size());
   if (r.observability.rank_deficient())
     fmt::print("not identified (partial calibration): {}\n", r.observability.summary());
+  if (opt.loss != RobustLoss::none) {
+    std::string list;
+    for (size_t k = 0; k < r.outliers.size(); ++k)
+      list += fmt::format("{}{}", k ? ", " : "", r.outliers[k] + 1);
+    fmt::print("{} loss: {} reading(s) weighted below 0.5{}{}\n", to_string(opt.loss),
+               r.outliers.size(), r.outliers.empty() ? "" : ": rows ", list);
+  }
+  if (!vpoints.empty()) {
+    auto line = [](const char* when, const DistanceStatistics& st) {
+      fmt::print(
+          "validation {} ({} readings): mean {:+.4f} mm, RMS {:.4f} mm, std {:.4f} mm, "
+          "max |d| {:.4f} mm\n",
+          when, st.count, st.mean_mm, st.rms_mm, st.std_mm, st.max_abs_mm);
+    };
+    line("before", validation.before);
+    line("after ", validation.after);
+  }
   if (!args.json.empty())
-    write_file(args.json, result_json(r));
+    write_file_atomic(args.json, result_json(r, opt, vpoints.empty() ? nullptr : &validation));
   if (!args.out.empty()) {
     const std::time_t now = std::time(nullptr);
     char date[32] = "";
@@ -291,8 +462,8 @@ int run_calibrate(const CalibrateArgs& args) {
         "{:.4f} mm after, {} iterations; changes: {}",
         date, std::filesystem::path(args.readings).filename().string(), points.size(),
         r.rms_before_mm, r.rms_after_mm, r.iterations, changed);
-    write_file(args.out, calibrated_cell_xml(read_text_file(args.cell_path), args.cell_path, params,
-                                             r.values, comment));
+    write_file_atomic(args.out, calibrated_cell_xml(read_text_file(args.cell_path), args.cell_path,
+                                                    params, r.values, comment));
     fmt::print("calibrated cell: {}\n", args.out);
   }
   return kExitOk;
@@ -319,6 +490,13 @@ Runner add_calibrate_command(CLI::App& app) {
                 "link1.alpha,link1.a,link1.theta,link1.d,link2.theta,link2.d)");
   c->add_flag("--allow-partial", cal->allow_partial,
               "On rank deficiency, identify only the observable combinations instead of refusing");
+  c->add_option("--validate", cal->validate,
+                "Validation readings (same CSV forms), taken with the nominal model: reports the "
+                "mean, RMS and std of the distances before and after calibration");
+  c->add_option("--loss", cal->loss,
+                "none (least squares, default), huber or cauchy: robust to outlying readings");
+  c->add_option("--loss-scale", cal->loss_scale_mm,
+                "Residual scale of the robust loss, mm (default 0: estimated from the residuals)");
   c->add_option("--json", cal->json, "Write the result as JSON to this file");
   c->add_option("-o,--output", cal->out,
                 "Write the calibrated cell: the --cell file with only the identified <dh> values "
@@ -332,13 +510,33 @@ Runner add_calibrate_command(CLI::App& app) {
     s->add_option("--configs", a.configs,
                   "External configurations, ';'-separated, values in chain order, revolute in "
                   "deg, prismatic in mm (default \"0,700;45,300\")");
+    s->add_option("--half-width", a.half_width_mm,
+                  "Half width of the meshes in the planes, mm (default 200)");
+    s->add_option("--z-min", a.z_min_mm, "Lowest mesh row on the x and y planes, mm (default 150)");
+    s->add_option("--z-max", a.z_max_mm,
+                  "Highest mesh row on the x and y planes, mm (default 450)");
+    s->add_option("--validation", a.validation,
+                  "Instead of the meshes: N validation points on the table plane (z) with random "
+                  "external joints (theta_M in [0, 180] deg, d_L in [0, 1000] mm)");
+    s->add_option("--validation-seed", a.validation_seed,
+                  "Seed of the validation points (default 7)");
   };
   CLI::App* p = c->add_subcommand(
       "plan",
-      "Plan the measurement: writes DIR/readings_template.csv, the commanded poses and "
-      "external joints of every point, with the distance column to fill in");
+      "Plan the measurement: writes the KRL program DIR/calib_plan.src/.dat that visits every "
+      "point, and DIR/readings_template.csv with the same point numbers and the distance "
+      "column to fill in (with --validation: calib_validate.* and validation_template.csv)");
   add_plan_options(p, *plan);
   p->add_option("-o,--output", plan->out, "Output directory")->required();
+  p->add_option("--templates", plan->templates,
+                "KRL template set (XML; default: the shipped krc4_lin)");
+  p->add_option("--dwell", plan->dwell_s,
+                "Seconds to wait at each point for the reading (default 2; 0 writes HALT)");
+  p->add_option("--retract", plan->retract_mm,
+                "Approach/retract distance along the beam before and after each plane, mm "
+                "(default 100)");
+  p->add_option("--tool", plan->tool, "$TOOL of the laser sensor (default TOOL_DATA[2])");
+  p->add_option("--base", plan->base, "$BASE (default BASE_DATA[1])");
 
   CLI::App* s = c->add_subcommand(
       "simulate", "Synthetic readings of the plan from a perturbed 'true' cell, for trials");

@@ -26,20 +26,38 @@ sed 's|<dh alpha="90" a="803" theta="0" d="-305"/>|<dh alpha="90" a="803" theta=
 [[ $(diff "$ANDRES" "$TMP/true.xml" | grep -c '^[<>]') -eq 2 ]] ||
   { echo "cli.calibrate: FAIL: could not perturb link 1 d in $ANDRES" >&2; exit 1; }
 
-begin "plan writes the readings template"
+begin "plan writes the KRL program and the readings template with the same numbers"
 run calibrate plan --cell "$ANDRES" -o "$TMP/plan"
 expect_rc 0
 T="$TMP/plan/readings_template.csv"
 [[ -f "$T" ]] || fail "no $T"
-grep -qx 'plane,distance,x,y,z,a,b,c,q1,q2' "$T" || fail "no header row in $T"
-[[ $(grep -c '^[xyz],,' "$T") -eq 108 ]] || fail "expected 108 rows with a blank distance"
-grep -qx 'x,,0,-200,150,0,-90,0,0,700' "$T" || fail "first point of plane x not as planned"
+grep -qx 'point,plane,distance,x,y,z,a,b,c,q1,q2' "$T" || fail "no header row in $T"
+[[ $(grep -c '^[0-9]*,[xyz],,' "$T") -eq 108 ]] || fail "expected 108 rows with a blank distance"
+grep -qx '1,x,,0,-200,150,0,-90,0,0,700' "$T" || fail "first point of plane x not as planned"
+grep -qx '108,z,,.*' "$T" || fail "the last row is not point 108"
+P="$TMP/plan/calib_plan.src"
+[[ -f "$P" && -f "$TMP/plan/calib_plan.dat" ]] || fail "no calib_plan.src/.dat"
+[[ $(grep -c '^; point [0-9]* of 108' "$P") -eq 108 ]] || fail "expected 108 numbered points"
+[[ $(grep -c '^WAIT SEC 2.00' "$P") -eq 108 ]] || fail "expected a dwell at every point"
+[[ $(grep -c '^PTP {E6AXIS' "$P") -eq 120 ]] || fail "expected 108 points + 6 approaches + 6 retracts"
+grep -q "KRL program: .*calib_plan.src" "$TMP/out" || fail "program not reported"
+# The program passes the static checks and stays within the cell's axis limits.
+run check "$P" --cell "$ANDRES"
+expect_rc 0
+passed
+
+begin "plan --dwell 0 writes HALT, --validation writes the validation program"
+run calibrate plan --cell "$ANDRES" --dwell 0 --validation 12 -o "$TMP/val"
+expect_rc 0
+[[ $(grep -c '^HALT' "$TMP/val/calib_validate.src") -eq 12 ]] || fail "expected 12 HALTs"
+[[ $(grep -c '^[0-9]*,z,,' "$TMP/val/validation_template.csv") -eq 12 ]] ||
+  fail "expected 12 table-plane rows"
 passed
 
 begin "plan with a 4x4 grid and other configurations"
 run calibrate plan --cell "$ANDRES" --grid 4 --configs "0,650;45,300" -o "$TMP/plan4"
 expect_rc 0
-[[ $(grep -c '^[xyz],,' "$TMP/plan4/readings_template.csv") -eq 48 ]] || fail "expected 48 rows"
+[[ $(grep -c '^[0-9]*,[xyz],,' "$TMP/plan4/readings_template.csv") -eq 48 ]] || fail "expected 48 rows"
 grep -q ',0.7853981633974483,300$' "$TMP/plan4/readings_template.csv" || fail "no 45 deg row"
 passed
 
@@ -58,7 +76,7 @@ passed
 begin "simulate, noise-free"
 run calibrate simulate --cell "$ANDRES" --true "$TMP/true.xml" --noise-mm 0 -o "$TMP/exact.csv"
 expect_rc 0
-[[ $(grep -c '^[xyz],' "$TMP/exact.csv") -eq 108 ]] || fail "expected 108 readings"
+[[ $(grep -c '^[0-9]*,[xyz],' "$TMP/exact.csv") -eq 108 ]] || fail "expected 108 readings"
 passed
 
 begin "calibrate noise-free readings recovers the truth"
@@ -118,7 +136,7 @@ begin "simulate in the joints form, calibrate from it"
 run calibrate simulate --cell "$ANDRES" --true "$TMP/true.xml" --noise-mm 0 --form joints \
   -o "$TMP/joints.csv"
 expect_rc 0
-grep -qx 'plane,distance,q1,q2,q3,q4,q5,q6,q7,q8,q9' "$TMP/joints.csv" || fail "header"
+grep -qx 'point,plane,distance,q1,q2,q3,q4,q5,q6,q7,q8,q9' "$TMP/joints.csv" || fail "header"
 run calibrate --cell "$ANDRES" --readings "$TMP/joints.csv" --json "$TMP/joints.json"
 expect_rc 0
 close "$TMP/joints.json" link1.d -304.6 1e-6
@@ -145,6 +163,56 @@ passed
 begin "missing --readings"
 run calibrate --cell "$ANDRES"
 expect_rc 2
+passed
+
+
+begin "validation before and after, robust loss, and a path converted with the calibrated cell"
+run calibrate simulate --cell "$ANDRES" --true "$TMP/true.xml" --validation 24 --seed 5 \
+  -o "$TMP/val.csv"
+expect_rc 0
+# Two gross outliers in the calibration readings: rows 10 and 50 off by 3 mm.
+python3 - "$TMP/noisy.csv" "$TMP/dirty.csv" <<'PY'
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+out = []
+for line in rows:
+    f = line.split(",")
+    if f[0] in ("10", "50"):
+        f[2] = repr(float(f[2]) + 3.0)
+    out.append(",".join(f))
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+run calibrate --cell "$ANDRES" --readings "$TMP/dirty.csv" --validate "$TMP/val.csv" \
+  --loss huber --json "$TMP/robust.json" -o "$TMP/robust.xml"
+expect_rc 0
+grep -q "huber loss: 2 reading(s) weighted below 0.5: rows 10, 50" "$TMP/out" ||
+  fail "outliers not reported"
+grep -q "^validation before (24 readings)" "$TMP/out" || fail "no validation line"
+close "$TMP/robust.json" link1.d -304.6 0.15
+python3 - "$TMP/robust.json" <<'PY' || fail "JSON validation/history"
+import json, sys
+j = json.load(open(sys.argv[1]))
+v = j["validation"]
+assert v["before"]["count"] == 24 and v["after"]["count"] == 24
+assert v["before"]["rms_mm"] > 0.2, v
+assert v["after"]["rms_mm"] < 0.07, v
+assert j["loss"] == "huber" and j["outliers"] == [10, 50]
+h = j["history"]
+assert len(h) == j["iterations"] + 1 and h[0]["iteration"] == 0
+assert abs(h[0]["rms_mm"] - j["rms_before_mm"]) < 1e-12
+assert abs(h[-1]["rms_mm"] - j["rms_after_mm"]) < 1e-12
+PY
+# The calibrated cell loads and converts the bundled example; its joints differ from the
+# nominal cell's where link 1 moved (E1/E2 and the arm).
+mkdir -p "$TMP/conv_nominal" "$TMP/conv_cal"
+run convert "$SRC/examples/cl/pocket_arcs.apt" --cell "$ANDRES" -o "$TMP/conv_nominal"
+expect_rc 0
+run convert "$SRC/examples/cl/pocket_arcs.apt" --cell "$TMP/robust.xml" -o "$TMP/conv_cal"
+expect_rc 0
+src_nominal=$(ls "$TMP"/conv_nominal/*.src | head -1)
+src_cal=$(ls "$TMP"/conv_cal/*.src | head -1)
+run diff "$src_nominal" "$src_cal" --axis-tol 0.001
+[[ $RC -eq 1 ]] || fail "the calibrated cell gives the same joints as the nominal one"
 passed
 
 echo "cli.calibrate: all $checks checks passed"

@@ -1,11 +1,20 @@
 // In-situ calibration of the external axes (issue 7, Andres et al. 2011 Section 3).
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "catch_compat.hpp"
 #include "redpost/calibration.hpp"
+#include "redpost/calibration_program.hpp"
+#include "redpost/controller_axes.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"
+#include "redpost/krl_reader.hpp"
+#include "redpost/krl_template.hpp"
+#include "redpost/kuka_abc.hpp"
+#include "redpost/tracker.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace redpost;
@@ -316,4 +325,192 @@ TEST_CASE("calibration: validation on 96 table points, random track and table (p
   INFO("validation RMS " << rms_before << " -> " << rms_after << " mm");
   CHECK(rms_before > 0.3);
   CHECK(rms_after < 2.0 * sigma);
+}
+
+TEST_CASE("calibration: statistics of distances against their definitions") {
+  Eigen::VectorXd d(4);
+  d << 1.0, -2.0, 3.0, 2.0;  // mean 1, squares 1+4+9+4 = 18
+  const DistanceStatistics st = distance_statistics(d);
+  CHECK(st.count == 4);
+  CHECK(st.mean_mm == Approx(1.0));
+  CHECK(st.rms_mm == Approx(std::sqrt(18.0 / 4.0)));
+  CHECK(st.std_mm == Approx(std::sqrt((0.0 + 9.0 + 4.0 + 1.0) / 3.0)));
+  CHECK(st.max_abs_mm == Approx(3.0));
+  CHECK(distance_statistics(Eigen::VectorXd()).count == 0);
+}
+
+TEST_CASE("calibration: validate_calibration on the paper's 96 random table points") {
+  const auto params = default_calibration_parameters();
+  const Eigen::VectorXd delta = paper_perturbation();
+  const double sigma = 0.035;
+  const Cell& nominal = andres();
+  const Cell truth = apply_parameters(nominal, params, parameter_values(nominal, params) + delta);
+  const CalibrationResult res =
+      calibrate(nominal, params, simulated(paper_plan(), delta, sigma, 21));
+
+  std::vector<CalibrationPoint> val = plan_validation(nominal);
+  REQUIRE(val.size() == 96);
+  for (const CalibrationPoint& pt : val) {
+    CHECK(pt.plane == PlaneAxis::z);
+    CHECK(within_limits(nominal, pt.q));
+    CHECK(pt.q[0] >= 0.0);
+    CHECK(pt.q[0] <= kPi);
+    CHECK(pt.q[1] >= 0.0);
+    CHECK(pt.q[1] <= 1000.0);
+    // The nominal model puts the commanded TCP on the table plane (to the solver's tolerance).
+    CHECK(std::abs(tcp_pose(nominal, pt.q).translation().z()) < 1e-4);
+  }
+  simulate_readings(truth, val, sigma, 99);
+  const ValidationResult v = validate_calibration(nominal, res.calibrated, val);
+  INFO("before: mean " << v.before.mean_mm << " RMS " << v.before.rms_mm << " std "
+                       << v.before.std_mm << "; after: mean " << v.after.mean_mm << " RMS "
+                       << v.after.rms_mm << " std " << v.after.std_mm);
+  CHECK(v.before.rms_mm > 0.3);
+  CHECK(v.after.rms_mm < 2.0 * sigma);
+  // before = the raw readings here (the nominal model predicts 0 on the plane).
+  for (size_t i = 0; i < val.size(); ++i)
+    CHECK(std::abs(v.before_mm[static_cast<Eigen::Index>(i)] - val[i].reading_mm) < 1e-4);
+}
+
+TEST_CASE("calibration: the history has one entry per accepted step") {
+  const auto params = default_calibration_parameters();
+  const CalibrationResult res =
+      calibrate(andres(), params, simulated(paper_plan(), paper_perturbation(), 0.035, 4));
+  REQUIRE(res.value_history.size() == static_cast<size_t>(res.iterations) + 1);
+  REQUIRE(res.rms_history_mm.size() == res.value_history.size());
+  CHECK(res.rms_history_mm.front() == Approx(res.rms_before_mm));
+  CHECK(res.rms_history_mm.back() == Approx(res.rms_after_mm));
+  CHECK((res.value_history.front() - res.initial).norm() == 0.0);
+  CHECK((res.value_history.back() - res.values).norm() == 0.0);
+  CHECK(res.residuals_mm.size() == static_cast<Eigen::Index>(paper_plan().size()));
+  CHECK(std::sqrt(res.residuals_mm.squaredNorm() / res.residuals_mm.size()) ==
+        Approx(res.rms_after_mm));
+}
+
+TEST_CASE("calibration: a robust loss rejects outlying readings that spoil least squares") {
+  const auto params = default_calibration_parameters();
+  const Eigen::VectorXd delta = paper_perturbation();
+  const double sigma = 0.035;
+  std::vector<CalibrationPoint> pts = simulated(paper_plan(), delta, sigma, 8);
+  // Six gross outliers (dirt on a plane, a reflection): 1.5-4 mm, on different planes.
+  const std::vector<int> bad = {3, 20, 41, 57, 80, 101};
+  for (size_t k = 0; k < bad.size(); ++k)
+    pts[static_cast<size_t>(bad[k])].reading_mm += (k % 2 ? -1.0 : 1.0) * (1.5 + 0.5 * k);
+
+  auto worst_error_in_se = [&](const CalibrationResult& r) {
+    double worst = 0.0;
+    for (Eigen::Index j = 0; j < delta.size(); ++j)
+      worst =
+          std::max(worst, std::abs(r.values[j] - r.initial[j] - delta[j]) / r.standard_errors[j]);
+    return worst;
+  };
+  const CalibrationResult ls = calibrate(andres(), params, pts);
+  CHECK(ls.outliers.empty());  // least squares weights everything 1
+  for (RobustLoss loss : {RobustLoss::huber, RobustLoss::cauchy}) {
+    CalibrationOptions opt;
+    opt.loss = loss;
+    const CalibrationResult rob = calibrate(andres(), params, pts, opt);
+    INFO(to_string(loss) << ": least squares worst error " << worst_error_in_se(ls)
+                         << " standard errors, robust " << worst_error_in_se(rob) << "; sigma_hat "
+                         << ls.sigma_hat_mm << " vs " << rob.sigma_hat_mm);
+    CHECK(rob.converged);
+    CHECK(rob.outliers == bad);  // exactly the injected readings are flagged
+    CHECK(worst_error_in_se(rob) < 3.0);
+    CHECK(rob.sigma_hat_mm < 1.5 * sigma);
+    CHECK(ls.sigma_hat_mm > 5.0 * sigma);  // the outliers inflate least squares' noise estimate
+    // The parameters themselves: the robust estimate is closer to the truth.
+    CHECK((rob.values - rob.initial - delta).cwiseQuotient(rob.standard_errors).norm() <
+          (ls.values - ls.initial - delta).cwiseQuotient(rob.standard_errors).norm());
+  }
+  // Without outliers the robust fit agrees with least squares to a fraction of a standard error.
+  const auto clean = simulated(paper_plan(), delta, sigma, 8);
+  CalibrationOptions huber;
+  huber.loss = RobustLoss::huber;
+  const CalibrationResult a = calibrate(andres(), params, clean);
+  const CalibrationResult b = calibrate(andres(), params, clean, huber);
+  for (Eigen::Index j = 0; j < delta.size(); ++j)
+    CHECK(std::abs(a.values[j] - b.values[j]) < 0.5 * a.standard_errors[j]);
+  CHECK(parse_robust_loss("cauchy") == RobustLoss::cauchy);
+  CHECK_THROWS_WITH(parse_robust_loss("l1"), Catch::Contains("unknown loss"));
+}
+
+TEST_CASE("calibration: the calibrated cell gives the corrected joints") {
+  // What the calibration is for: the joints computed with the calibrated cell put the TCP of
+  // the TRUE cell where it was commanded; those of the nominal cell miss by the calibration
+  // error.
+  const auto params = default_calibration_parameters();
+  const Eigen::VectorXd delta = paper_perturbation();
+  const Cell& nominal = andres();
+  const Cell truth = apply_parameters(nominal, params, parameter_values(nominal, params) + delta);
+  const CalibrationResult res =
+      calibrate(nominal, params, simulated(paper_plan(), delta, 0.035, 5));
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> thM(0.0, kPi), dL(0.0, 1000.0), xy(-150.0, 150.0),
+      z(20.0, 250.0);
+  double worst_nominal = 0.0, worst_calibrated = 0.0;
+  for (int i = 0; i < 30; ++i) {
+    // A milling-like frame: the tool axis tilted up to ~20 deg from vertical.
+    Isometry T = frame_from_xyzabc(xy(rng), xy(rng), z(rng), {xy(rng), 180.0 + xy(rng) / 8, 0.0});
+    const std::vector<double> ext = {thM(rng), dL(rng)};
+    JointVector q_nom, q_cal;
+    try {
+      q_nom = joints_for_commanded_frame(nominal, {0, 1}, ext, T);
+      q_cal = joints_for_commanded_frame(res.calibrated, {0, 1}, ext, T);
+    } catch (const Error&) {
+      continue;  // out of reach for this random draw
+    }
+    const double e_nom = (tcp_pose(truth, q_nom).translation() - T.translation()).norm();
+    const double e_cal = (tcp_pose(truth, q_cal).translation() - T.translation()).norm();
+    worst_nominal = std::max(worst_nominal, e_nom);
+    worst_calibrated = std::max(worst_calibrated, e_cal);
+  }
+  INFO("worst TCP error on the true cell: nominal joints "
+       << worst_nominal << " mm, calibrated joints " << worst_calibrated << " mm");
+  CHECK(worst_nominal > 0.5);
+  CHECK(worst_calibrated < 0.1);
+}
+
+TEST_CASE("calibration: the plan's KRL program visits every point with the planned joints") {
+  const Cell& cell = andres();
+  const std::vector<CalibrationPoint>& plan = paper_plan();
+  test::TempDir dir("redpost_calprog");
+  const KrlTemplateSet templates =
+      load_krl_templates(test::source_path("definitions/krl/krc4_lin.xml"));
+  CalibrationProgramOptions opt;
+  opt.output_dir = dir.path.string();
+  const std::vector<std::string> files = write_calibration_program(cell, plan, templates, opt);
+  REQUIRE(files.size() == 1);
+  const KrlProgram prog = read_krl_program(files[0]);
+  // Six groups (3 planes x 2 configurations): an approach before each, a retract after each.
+  REQUIRE(prog.motions.size() == plan.size() + 2 * 6);
+  std::ifstream in(files[0]);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  size_t m = 0, waits = 0;
+  for (size_t pos = 0; (pos = text.find("WAIT SEC 2.00", pos)) != std::string::npos; ++pos)
+    ++waits;
+  CHECK(waits == plan.size());
+  CHECK(text.find("point 108 of 108") != std::string::npos);
+  // Every point's motion is a PTP to the planned joints, in order, between approach/retract.
+  for (size_t i = 0; i < plan.size(); ++i) {
+    if (i == 0 || plan[i].plane != plan[i - 1].plane ||
+        plan[i].configuration != plan[i - 1].configuration)
+      m += i == 0 ? 1 : 2;  // (retract of the previous group and) approach of this one
+    const KrlMotionRecord& rec = prog.motions[m++];
+    CHECK(rec.keyword == "PTP");
+    const AxisValues ax = to_controller_axes(cell, plan[i].q);
+    for (int a = 1; a <= 6; ++a)
+      CHECK(rec.target.values.at("A" + std::to_string(a)) == Approx(ax.arm(a)).margin(1e-3));
+    CHECK(rec.target.values.at("E1") == Approx(ax.external(1)).margin(1e-3));
+    CHECK(rec.target.values.at("E2") == Approx(ax.external(2)).margin(1e-3));
+  }
+  // The approach and retract poses back off along the beam and stay within the limits.
+  for (const KrlMotionRecord& rec : prog.motions) {
+    AxisValues ax;
+    for (int a = 1; a <= 6; ++a)
+      ax.arm(a) = rec.target.values.at("A" + std::to_string(a));
+    ax.external(1) = rec.target.values.at("E1");
+    ax.external(2) = rec.target.values.at("E2");
+    const JointVector q = from_controller_axes(cell, ax, cell.home());
+    CHECK(within_limits(cell, q, 1e-6));
+  }
 }

@@ -24,6 +24,7 @@
 #include "redpost/krl_template.hpp"
 #include "redpost/krl_writer.hpp"
 #include "redpost/status_turn.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace redpost;
@@ -40,18 +41,9 @@ std::string read_bytes(const fs::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// A fresh directory under /tmp, removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "redpost_krl_XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+// A fresh directory under /tmp, removed at the end of the test, with its listing.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("redpost_krl") {}
   std::vector<std::string> names() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(path))

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -144,6 +145,15 @@ void simulate_readings(const Cell& true_cell, std::vector<CalibrationPoint>& poi
 
 // ---- Identification (eqs. 5-10) -------------------------------------------------------------
 
+// Robust losses for readings with outliers (a spot of dirt on a plane, a reflection): the
+// identification then minimises sum rho(r_i / s) by iteratively reweighted least squares.
+// Huber: rho(u) = u^2/2 for |u| <= k, k|u| - k^2/2 beyond (k = 1.345); Cauchy: rho(u) =
+// c^2/2 log(1 + (u/c)^2) (c = 2.385). Both are 95 % efficient on Gaussian noise.
+enum class RobustLoss { none, huber, cauchy };
+
+const char* to_string(RobustLoss loss);
+RobustLoss parse_robust_loss(const std::string& name);  // none|huber|cauchy; throws bad_input
+
 struct CalibrationOptions {
   // Eq. 10: stop when |dbeta_j| < relative_step * |beta_j - beta_j(0)| for every j, or ...
   double relative_step = 1e-3;
@@ -156,6 +166,10 @@ struct CalibrationOptions {
   // identifies the observable subspace only (minimum-norm steps in scaled coordinates).
   bool allow_partial = false;
   MeasurementModel model;
+  RobustLoss loss = RobustLoss::none;
+  // The residual scale s of the robust loss (mm). 0: estimated at every iteration as
+  // 1.4826 * the median absolute deviation of the residuals (floored at 1e-4 mm).
+  double loss_scale_mm = 0.0;
 };
 
 // A direction of the parameter space the data cannot see.
@@ -201,6 +215,15 @@ struct CalibrationResult {
   bool converged = false;             // the stopping rule was met within max_iterations
   ObservabilityReport observability;  // at the identified values (initial ones if refused)
   Cell calibrated;                    // the nominal cell with the identified values
+  // History for reports (the paper's Figure 8): beta and the RMS of the residuals before the
+  // first step and after every accepted one (iterations + 1 entries).
+  std::vector<Eigen::VectorXd> value_history;
+  std::vector<double> rms_history_mm;
+  Eigen::VectorXd residuals_mm;  // r_i = reading - model at the identified values
+  // Robust loss only: the final weight of every reading (1 for least squares) and the indices
+  // (0-based) of the readings weighted below 0.5, the likely outliers.
+  Eigen::VectorXd weights;
+  std::vector<int> outliers;
 };
 
 // Identifies the parameters from the points (joints and readings). Throws Error(bad_input) on
@@ -209,5 +232,59 @@ struct CalibrationResult {
 CalibrationResult calibrate(const Cell& nominal, const std::vector<CalibrationParameter>& params,
                             const std::vector<CalibrationPoint>& points,
                             const CalibrationOptions& options = {});
+
+// ---- Validation (paper section 3.3) --------------------------------------------------------
+
+// The external joints of a cell: the joints mapped to E1..E6, in chain order.
+std::vector<int> external_joint_indices(const Cell& cell);
+
+struct ValidationPlanOptions {
+  int points = 96;
+  PlaneAxis plane = PlaneAxis::z;
+  // Chain indices of the external joints; empty: external_joint_indices(cell).
+  std::vector<int> external_joints;
+  // Per external joint, the range its random value is drawn from (DH units), clipped to the
+  // joint's limits. Empty: the paper's theta_M in [0, pi], d_L in [0, 1000] mm for a revolute
+  // and a prismatic joint, else the joint's limits.
+  std::vector<std::pair<double, double>> ranges;
+  double half_width_mm = 200.0;  // in-plane coordinates uniform in [-w, w]
+  double z_min_mm = 150.0;       // height range on the x and y planes
+  double z_max_mm = 450.0;
+  double stand_off_mm = 0.0;
+  MeasurementModel model;
+  int perturbed_starts = 24;
+  std::uint64_t seed = 7;
+};
+
+// Random commanded points on one plane with random external joints (seeded), the arm solved on
+// the nominal model, as the paper's 96 validation points. Each point is its own configuration.
+std::vector<CalibrationPoint> plan_validation(const Cell& nominal,
+                                              const ValidationPlanOptions& options = {});
+
+// Mean, RMS and standard deviation of a set of distances (mm), as the paper's section 3.3.
+struct DistanceStatistics {
+  int count = 0;
+  double mean_mm = 0.0;
+  double rms_mm = 0.0;
+  double std_mm = 0.0;  // sample standard deviation (n - 1)
+  double max_abs_mm = 0.0;
+};
+
+DistanceStatistics distance_statistics(const Eigen::VectorXd& distances_mm);
+
+// The validation of a calibration on readings taken with the NOMINAL model (the commanded
+// points on their planes): "before" is what the laser saw against what the nominal model
+// predicts; "after" is what it saw against what the calibrated model predicts at the same
+// joints, that is the error a controller using the calibrated model would leave, to first order.
+struct ValidationResult {
+  Eigen::VectorXd before_mm;  // reading - nominal model's reading
+  Eigen::VectorXd after_mm;   // reading - calibrated model's reading
+  DistanceStatistics before;
+  DistanceStatistics after;
+};
+
+ValidationResult validate_calibration(const Cell& nominal, const Cell& calibrated,
+                                      const std::vector<CalibrationPoint>& points,
+                                      const MeasurementModel& model = {});
 
 }  // namespace redpost

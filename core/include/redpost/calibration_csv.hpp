@@ -6,7 +6,8 @@
 //                                        solved on the NOMINAL cell (joints_for_commanded_frame)
 //   plane,distance,q1,...,qn             every joint of the chain in DH units (rad or mm)
 //
-// `plane` is x, y or z; `distance` is the laser reading in mm. Columns are named by the header
+// `plane` is x, y or z; `distance` is the laser reading in mm; an optional `point` column (the
+// plan's point number) is ignored. Columns are named by the header
 // (case-insensitive, any order, each exactly once). Blank lines and lines starting with '#' are
 // skipped. Every problem is an Error(bad_input) located at the file and line.
 #pragma once
@@ -51,6 +52,9 @@ struct ReadingsWriteOptions {
   bool blank_distances = false;
   // true: a '#' comment line before the header saying what the file is.
   bool comment = true;
+  // true: a first column 'point' numbering the rows 1..n, as the plan's KRL program's comments
+  // do (the reader accepts and ignores it).
+  bool point_numbers = false;
 };
 
 // Writes points as a readings file (numbers in the shortest form that reads back exactly).
