@@ -5,9 +5,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <optional>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -196,6 +199,54 @@ double parse_number(const std::string& field, const char* column, const SourceLo
 
 }  // namespace
 
+namespace {
+
+// A commanded-pose row whose arm joints are still to be solved on the nominal model.
+struct PendingSolve {
+  size_t point = 0;
+  std::vector<int> external;
+  std::vector<double> values;
+  SourceLocation where;
+};
+
+// Solves the arm joints of the commanded-pose rows, on two threads: each row is independent and
+// deterministic, so the result does not depend on the split. The error reported is that of the
+// first failing row in file order.
+void solve_rows(const Cell& nominal, const ReadingsReadOptions& options,
+                const std::vector<PendingSolve>& pending, std::vector<CalibrationPoint>& points) {
+  std::vector<std::exception_ptr> errors(pending.size());
+  auto work = [&](size_t begin, size_t step) {
+    for (size_t k = begin; k < pending.size(); k += step) {
+      const PendingSolve& p = pending[k];
+      CalibrationPoint& pt = points[p.point];
+      try {
+        pt.q = joints_for_commanded_frame(nominal, p.external, p.values, pt.T_B_commanded,
+                                          options.perturbed_starts, options.seed);
+      } catch (const Error& e) {
+        const char* what = e.code() == ErrorCode::unreachable
+                               ? "the commanded pose cannot be reached on the nominal cell: "
+                               : "";
+        errors[k] =
+            std::make_exception_ptr(Error(ErrorCode::bad_input, what + e.message(), p.where));
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+    }
+  };
+  if (pending.size() >= 8) {
+    std::thread other(work, size_t{1}, size_t{2});
+    work(0, 2);
+    other.join();
+  } else {
+    work(0, 1);
+  }
+  for (const std::exception_ptr& e : errors)
+    if (e)
+      std::rethrow_exception(e);
+}
+
+}  // namespace
+
 std::vector<CalibrationPoint> parse_readings_csv(const std::string& text,
                                                  const std::string& source_name,
                                                  const Cell& nominal,
@@ -203,6 +254,7 @@ std::vector<CalibrationPoint> parse_readings_csv(const std::string& text,
   std::vector<CalibrationPoint> points;
   std::optional<Header> header;
   std::vector<std::vector<double>> configurations;
+  std::vector<PendingSolve> pending;  // commanded-pose rows, solved after parsing
   std::istringstream in(text);
   std::string raw;
   int line_no = 0;
@@ -256,15 +308,7 @@ std::vector<CalibrationPoint> parse_readings_csv(const std::string& text,
       for (int k = 0; k < 6; ++k)
         pose[k] = parse_number(fields[static_cast<size_t>(h.pose[k])], kPoseColumns[k], where);
       pt.T_B_commanded = frame_from_xyzabc(pose[0], pose[1], pose[2], {pose[3], pose[4], pose[5]});
-      try {
-        pt.q = joints_for_commanded_frame(nominal, external, values, pt.T_B_commanded,
-                                          options.perturbed_starts, options.seed);
-      } catch (const Error& e) {
-        const char* what = e.code() == ErrorCode::unreachable
-                               ? "the commanded pose cannot be reached on the nominal cell: "
-                               : "";
-        throw Error(ErrorCode::bad_input, what + e.message(), where);
-      }
+      pending.push_back({points.size(), external, values, where});
       auto it = std::find(configurations.begin(), configurations.end(), values);
       pt.configuration = static_cast<int>(it - configurations.begin());
       if (it == configurations.end())
@@ -279,6 +323,7 @@ std::vector<CalibrationPoint> parse_readings_csv(const std::string& text,
   if (points.empty())
     throw Error(ErrorCode::bad_input, "no readings after the header",
                 SourceLocation{source_name, line_no, 0});
+  solve_rows(nominal, options, pending, points);
   return points;
 }
 
