@@ -204,6 +204,8 @@ struct PostSession::Impl {
     m.status_turn = status_turn(cell, arm, q);
     writer.motion(m);
     ++summary.motions;
+    if (o.on_motion)
+      observe(m, q);
     if (csv) {
       line.clear();
       fmt::format_to(std::back_inserter(line), "{},{}", summary.motions, cl_line);
@@ -217,6 +219,22 @@ struct PostSession::Impl {
       line.push_back('\n');
       csv->write(line);
     }
+  }
+
+  void observe(const KrlMotion& m, const JointVector& q) {
+    MotionSample s;
+    s.index = summary.motions;
+    s.kind = m.kind;
+    s.cl_line = m.cl_line;
+    s.q = &q;
+    s.axes = &m.axes;
+    s.inv_condition = last.inv_condition;
+    s.iterations = last.iterations;
+    if (m.kind == KrlMotionKind::lin)
+      s.feed_mm_per_min = feed_mm_per_min;
+    // {base} -> {B} -> part: the TCP the controller is sent, in the CL frame.
+    s.p_part_mm = o.T_B_part.inverse() * (o.T_B_base * m.T_base_tcp.translation());
+    o.on_motion(s);
   }
 
   // The physical TCP is the chain's TCP with every virtual joint at 0: the controller's $TOOL
@@ -484,6 +502,10 @@ const PostSummary& PostSession::finish() {
   }
   m.summary.files = m.writer.finish();
   return m.summary;
+}
+
+void PostSession::set_motion_observer(MotionObserver observer) {
+  impl_->o.on_motion = std::move(observer);
 }
 
 const PoseResult& PostSession::last_pose() const {

@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "calibrate_report.hpp"
 #include "commands.hpp"
 #include "definitions.hpp"
 #include "redpost/calibration.hpp"
@@ -69,6 +70,7 @@ struct CalibrateArgs {
   std::string loss = "none";
   double loss_scale_mm = 0.0;
   std::string json;
+  std::string report;
   std::string out;
 };
 
@@ -445,6 +447,18 @@ int run_calibrate(const CalibrateArgs& args) {
   }
   if (!args.json.empty())
     write_file_atomic(args.json, result_json(r, opt, vpoints.empty() ? nullptr : &validation));
+  if (!args.report.empty()) {
+    CalibrationReportInput in;
+    in.cell_path = args.cell_path;
+    in.readings_path = args.readings;
+    in.validation_path = args.validate;
+    in.readings = static_cast<int>(points.size());
+    in.result = &r;
+    in.options = &opt;
+    in.validation = vpoints.empty() ? nullptr : &validation;
+    write_calibration_report(args.report, in);
+    fmt::print("report: {}\n", args.report);
+  }
   if (!args.out.empty()) {
     const std::time_t now = std::time(nullptr);
     char date[32] = "";
@@ -498,6 +512,9 @@ Runner add_calibrate_command(CLI::App& app) {
   c->add_option("--loss-scale", cal->loss_scale_mm,
                 "Residual scale of the robust loss, mm (default 0: estimated from the residuals)");
   c->add_option("--json", cal->json, "Write the result as JSON to this file");
+  c->add_option("--report", cal->report,
+                "Write an HTML report (parameters and RMS per iteration, singular values, "
+                "validation histograms)");
   c->add_option("-o,--output", cal->out,
                 "Write the calibrated cell: the --cell file with only the identified <dh> values "
                 "changed and a comment recording the date and RMS");

@@ -18,5 +18,6 @@ Runner add_convert_command(CLI::App& app);
 Runner add_diff_command(CLI::App& app);
 Runner add_check_command(CLI::App& app);
 Runner add_calibrate_command(CLI::App& app);
+Runner add_place_command(CLI::App& app);
 
 }  // namespace redpost::cli

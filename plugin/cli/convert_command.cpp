@@ -10,9 +10,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
+#include "convert_report.hpp"
 #include "redpost.h"
 
 namespace redpost::cli {
@@ -31,7 +34,8 @@ struct ConvertOptions {
   std::string output_dir;
   std::string name;
   std::string joints_csv;
-  std::string placement;  // "x,y,z,a,b,c" of the CL frame in the cell's {B}
+  std::string report_html;  // --report: an HTML report of the run; empty: none
+  std::string placement;    // "x,y,z,a,b,c" of the CL frame in the cell's {B}
   std::string base = "BASE_DATA[1]";
   std::string tool = "TOOL_DATA[1]";
   double apo_mm = 0.5;
@@ -169,6 +173,10 @@ int run_convert(const ConvertOptions& opt) {
       st != RP_OK) {
     return report(st, rp_last_error(nullptr));
   }
+  // The observer is attached only for --report: without it the session makes no samples.
+  std::unique_ptr<ConvertReport> html;
+  if (!opt.report_html.empty())
+    html = std::make_unique<ConvertReport>(h.session);
 
   const bool progress = !opt.quiet && ::isatty(STDERR_FILENO) == 1;
   auto last_report = std::chrono::steady_clock::now();
@@ -195,14 +203,28 @@ int run_convert(const ConvertOptions& opt) {
   }
   if (progress)
     fmt::print(stderr, "\r{:40}\r", "");
-  for (int i = 0; const char* w = rp_reader_warning(h.reader, i); ++i)
+  std::vector<std::string> reader_warnings;
+  for (int i = 0; const char* w = rp_reader_warning(h.reader, i); ++i) {
     fmt::print(stderr, "warning: {}\n", w);
+    if (html)
+      reader_warnings.emplace_back(w);
+  }
   if (const rp_status st = rp_close(h.session); st != RP_OK)
     return report(st, rp_last_error(h.session));
   for (int i = 0; const char* w = rp_warning(h.session, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Only after a complete conversion: a failed one leaves no report behind.
+  if (html) {
+    ConvertReportContext context;
+    context.input = opt.input;
+    context.cell = opt.cell_path;
+    context.program = name;
+    context.seconds = seconds;
+    context.reader_warnings = std::move(reader_warnings);
+    html->write(opt.report_html, h.session, context);
+  }
   if (!opt.quiet)
     print_summary(h.session, seconds);
   return kExitOk;
@@ -222,6 +244,9 @@ Runner add_convert_command(CLI::App& app) {
                 "Program name (KRL identifier, at most 24 characters); default from the input");
   c->add_option("--joints-csv", opt->joints_csv,
                 "Write one row per motion: pose, CL line, joints (DH units), controller axes");
+  c->add_option("--report", opt->report_html,
+                "Write an HTML report of the run: joints, 1/kappa_F, external axes, feed, "
+                "toolpath views and the margins to the limits");
   c->add_option("--placement", opt->placement,
                 "Where the CL frame lies in the cell's base frame: x,y,z,a,b,c (mm, deg)");
   c->add_option("--base", opt->base, "Right-hand side of $BASE = (default BASE_DATA[1])");

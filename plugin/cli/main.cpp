@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   const redpost::cli::Runner diff = redpost::cli::add_diff_command(app);
   const redpost::cli::Runner check = redpost::cli::add_check_command(app);
   const redpost::cli::Runner calibrate = redpost::cli::add_calibrate_command(app);
+  const redpost::cli::Runner place = redpost::cli::add_place_command(app);
 
   try {
     app.parse(argc, argv);
@@ -35,6 +36,8 @@ int main(int argc, char** argv) {
       return check();
     if (app.got_subcommand("calibrate"))
       return calibrate();
+    if (app.got_subcommand("place"))
+      return place();
   } catch (const redpost::Error& e) {
     fmt::print(stderr, "redpost: {}\n", e.what());
     return redpost::cli::kExitBadInput;

@@ -162,6 +162,42 @@ typedef struct rp_joint_range_info {
  * table of `redpost convert`. */
 RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_range_info* range);
 
+/* --- Watching the motions as they are written ------------------------------------------------ */
+
+typedef enum rp_motion_kind {
+  RP_MOTION_PTP = 0,   /* PTP to a full E6AXIS (the first motion) */
+  RP_MOTION_RAPID = 1, /* a rapid traverse */
+  RP_MOTION_LIN = 2    /* a cutting move at the feed */
+} rp_motion_kind;
+
+/* One written motion. struct_size is sizeof(rp_motion) of the library that calls: a host built
+ * against an older, shorter rp_motion reads its own fields only; newer fields go at the end. */
+typedef struct rp_motion {
+  unsigned struct_size;
+  long index; /* 1, 2, ... in the order written (the joints CSV's "pose" column) */
+  rp_motion_kind kind;
+  int line; /* the CL line (rp_set_line) or event index of the motion */
+  int joint_count;
+  double joints[16];    /* DH units: rad and mm, chain order, the virtual joint included */
+  double axes[12];      /* controller values A1..A6, E1..E6 (deg, mm); NaN if not mapped */
+  double inv_condition; /* 1/kappa_F of the arm at the written posture */
+  /* The tracker's switch threshold on 1/kappa_F (the same for every motion of a session). */
+  double conditioning_threshold;
+  int iterations;         /* of the solve of the written posture */
+  double feed_mm_per_min; /* the feed in force for RP_MOTION_LIN; NaN for PTP and rapid */
+  double tcp[3];          /* the TCP in the CL (workpiece) frame, mm */
+} rp_motion;
+
+/* Called once per written motion, after it was written, on the thread that sent the event. The
+ * pointer is valid during the call only. It must return normally (no longjmp, no C++ exception)
+ * and must not call back into the session. */
+typedef void (*rp_motion_observer)(const rp_motion* motion, void* user);
+
+/* Sets (fn != NULL) or removes (fn == NULL) the session's motion observer; user is passed back.
+ * Only on an open session (RP_ERR_STATE otherwise); motions written before are not replayed.
+ * Without an observer nothing is computed for it. Added for `redpost convert --report`. */
+RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer fn, void* user);
+
 /* Warning number index (0-based) of the session, or NULL past the end. */
 RP_API const char* rp_warning(const rp_session* session, int index);
 /* The final path of written .src file number index (0: the main program), or NULL. */

@@ -150,6 +150,7 @@ struct rp_session {
   // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
   std::optional<redpost::PostSummary> summary_kept;
   std::optional<redpost::PoseResult> pose_kept;
+  double conditioning_threshold = 0.0;  // the tracker's, for rp_motion
 
   const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
   const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
@@ -275,6 +276,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
       post.T_B_part =
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
     }
+    s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
     s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
   });
   if (st == RP_OK)
@@ -506,6 +508,53 @@ RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_r
         out.axis_name = n;
     }
     *range = out;
+  });
+}
+
+RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer fn, void* user) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (session->state != rp_session::State::open || !session->post) {
+      throw AbiError{RP_ERR_STATE,
+                     "rp_set_motion_observer: the session is not open (closed or failed)"};
+    }
+    if (!fn) {
+      session->post->set_motion_observer({});
+      return;
+    }
+    const double threshold = session->conditioning_threshold;
+    // Filled on the stack per motion: no allocation on the per-pose path.
+    session->post->set_motion_observer([fn, user, threshold](const redpost::MotionSample& m) {
+      rp_motion out;
+      std::memset(&out, 0, sizeof out);
+      out.struct_size = sizeof out;
+      out.index = m.index;
+      switch (m.kind) {
+        case redpost::KrlMotionKind::ptp_axes:
+          out.kind = RP_MOTION_PTP;
+          break;
+        case redpost::KrlMotionKind::rapid:
+          out.kind = RP_MOTION_RAPID;
+          break;
+        case redpost::KrlMotionKind::lin:
+          out.kind = RP_MOTION_LIN;
+          break;
+      }
+      out.line = m.cl_line;
+      out.joint_count = static_cast<int>(m.q->size());
+      for (int i = 0; i < out.joint_count && i < 16; ++i)
+        out.joints[i] = (*m.q)[i];
+      for (int i = 0; i < 12; ++i)
+        out.axes[i] = m.axes->value[static_cast<std::size_t>(i)];
+      out.inv_condition = m.inv_condition;
+      out.conditioning_threshold = threshold;
+      out.iterations = m.iterations;
+      out.feed_mm_per_min = m.feed_mm_per_min;
+      for (int i = 0; i < 3; ++i)
+        out.tcp[i] = m.p_part_mm[i];
+      fn(&out, user);
+    });
   });
 }
 

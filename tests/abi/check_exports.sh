@@ -11,7 +11,7 @@ if [ -n "$others" ]; then
   echo "unexpected exported symbols:"; echo "$others" | head -20; failed=1
 fi
 for f in rp_open rp_close rp_free rp_last_error rp_session_event rp_reader_open rp_circular_move \
-         rp_joint_range Redpost_Init; do
+         rp_joint_range rp_set_motion_observer Redpost_Init; do
   echo "$symbols" | grep -qx "$f" || { echo "missing export: $f"; failed=1; }
 done
 soname=$(objdump -p "$lib" | awk '$1 == "SONAME" {print $2}')

@@ -5,6 +5,7 @@
 //        --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdint>
@@ -21,6 +22,8 @@
 
 #include "allocation_counter.hpp"
 #include "kdl_chain.hpp"
+#include "redpost/arm_ik.hpp"
+#include "redpost/controller_axes.hpp"
 #include "redpost/forward_kinematics.hpp"
 #include "redpost/jacobian.hpp"
 #include "test_support.hpp"
@@ -127,6 +130,31 @@ void BM_kdl_fk_jacobian(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_kdl_fk_jacobian);
+
+// Closed-form arm inverse kinematics (issue 8): all eight postures of one target of the Caro
+// cell, each checked by a forward-kinematics round trip inside solve().
+void BM_arm_ik(benchmark::State& state) {
+  static const redpost::Cell cell = redpost::test::shipped_cell("caro2014_kr270_table");
+  const redpost::ArmIk ik(cell);
+  redpost::AxisValues axes = redpost::to_controller_axes(cell, cell.home());
+  const double a_deg[6] = {20.0, -120.0, 140.0, 30.0, 40.0, -20.0};  // all 8 postures exist
+  for (int n = 1; n <= 6; ++n)
+    axes.arm(n) = a_deg[n - 1];
+  const redpost::JointVector q = redpost::from_controller_axes(cell, axes, cell.home());
+  const redpost::Isometry T = redpost::tcp_pose(cell, q);
+  int found = 0;
+  {
+    redpost::bench::AllocationScope allocations(state);
+    for (auto _ : state) {
+      const redpost::ArmIkSolutions sol = ik.solve(T, q);
+      found = static_cast<int>(std::count(sol.exists.begin(), sol.exists.end(), true));
+      benchmark::DoNotOptimize(sol);
+    }
+  }
+  state.counters["postures"] = found;
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_arm_ik);
 
 }  // namespace
 

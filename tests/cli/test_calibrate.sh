@@ -183,8 +183,11 @@ for line in rows:
 open(sys.argv[2], "w").write("\n".join(out) + "\n")
 PY
 run calibrate --cell "$ANDRES" --readings "$TMP/dirty.csv" --validate "$TMP/val.csv" \
-  --loss huber --json "$TMP/robust.json" -o "$TMP/robust.xml"
+  --loss huber --json "$TMP/robust.json" -o "$TMP/robust.xml" --report "$TMP/robust.html"
 expect_rc 0
+# The report: six parameters per iteration, RMS, singular values, residuals, validation.
+[[ $(grep -o '<svg class="plot"' "$TMP/robust.html" | wc -l) -eq 10 ]] || fail "expected 10 plots"
+grep -q 'weighted below 0.5' "$TMP/robust.html" || fail "the outliers are not in the report"
 grep -q "huber loss: 2 reading(s) weighted below 0.5: rows 10, 50" "$TMP/out" ||
   fail "outliers not reported"
 grep -q "^validation before (24 readings)" "$TMP/out" || fail "no validation line"

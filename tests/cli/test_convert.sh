@@ -90,5 +90,32 @@ else
   echo "note: ../shared/evaldata not present, sample files skipped"
 fi
 
+# 6. --report: an HTML report beside an unchanged program; none after a failed conversion.
+mkdir -p "$work/rep"
+run rep convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/rep" --name POCKET \
+  --report "$work/rep/report.html" --joints-csv "$work/rep/joints.csv"
+[ "$rc" -eq 0 ] && [ -s "$work/rep/report.html" ] && pass || fail "report: exit $rc: $(cat "$work/rep.err")"
+cmp -s "$work/ok/POCKET.src" "$work/rep/POCKET.src" && cmp -s "$work/ok/POCKET.dat" "$work/rep/POCKET.dat" &&
+  pass || fail "the KRL differs with --report"
+# Joints, 1/kappa_F, external axes, iterations, feed and three toolpath projections.
+plots=$(grep -o '<svg class="plot"' "$work/rep/report.html" | wc -l)
+[ "$plots" -eq 8 ] && pass || fail "report: $plots plots, expected 8"
+urls=$(grep -Eo '(https?|ftp|file)://[^"'"'"' )]*' "$work/rep/report.html" | grep -vx 'http://www.w3.org/2000/svg' || true)
+[ -z "$urls" ] && pass || fail "report refers outside itself: $urls"
+# The motion count in the report is the joints log's row count (one row per written motion).
+motions=$(($(wc -l <"$work/rep/joints.csv") - 1))
+grep -q "motions written</th><td>$motions</td>" "$work/rep/report.html" && pass ||
+  fail "report: no 'motions written' row with $motions"
+ls -a "$work/rep" | grep -q "tmp" && fail "report: temporary file left: $(ls -a "$work/rep")" || pass
+mkdir -p "$work/repfail"
+run repfail convert "$work/far.apt" --cell "$cell" -o "$work/repfail" --report "$work/repfail/r.html"
+[ "$rc" -eq 2 ] && [ -z "$(ls -A "$work/repfail")" ] && pass ||
+  fail "failed conversion with --report: exit $rc, left: $(ls -A "$work/repfail")"
+mkdir -p "$work/repbad"
+run repbad convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/repbad" -q \
+  --report "$work/repbad/no/such/dir/r.html"
+[ "$rc" -eq 2 ] && grep -q "no/such/dir/r.html" "$work/repbad.err" && pass ||
+  fail "unwritable report: exit $rc: $(cat "$work/repbad.err")"
+
 echo "cli.convert: $((checks - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]

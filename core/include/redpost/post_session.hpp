@@ -10,16 +10,38 @@
 #pragma once
 
 #include <cstdio>
+#include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "redpost/cell.hpp"
 #include "redpost/cl_event.hpp"
+#include "redpost/controller_axes.hpp"
 #include "redpost/krl_writer.hpp"
 #include "redpost/tracker.hpp"
 
 namespace redpost {
+
+// One motion as it is written, for a host that watches the run (the report of `redpost convert`).
+// The pointers are valid during the call only; nothing is allocated to make a sample.
+struct MotionSample {
+  long index = 0;  // 1, 2, ... in the order written (the joints CSV's "pose" column)
+  KrlMotionKind kind = KrlMotionKind::lin;
+  int cl_line = 0;
+  const JointVector* q = nullptr;    // DH units (rad, mm), chain order, the virtual joint included
+  const AxisValues* axes = nullptr;  // controller values A1..A6, E1..E6 (deg, mm); NaN: unmapped
+  double inv_condition = 0.0;        // 1/kappa_F of the arm at q
+  int iterations = 0;                // of the solve of the written posture
+  // The feed in force for a cutting move (lin); NaN for ptp and rapid motions.
+  double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
+  // The physical TCP (virtual joints at 0: the same point) in the CL (part) frame, mm.
+  Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
+};
+
+// Called for every written motion, after it was written. Empty: no samples are made.
+using MotionObserver = std::function<void(const MotionSample&)>;
 
 struct PostOptions {
   KrlProgramInfo program;
@@ -44,6 +66,8 @@ struct PostOptions {
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
   std::string joints_csv_path;
+  // Sees every written motion (see MotionSample). Empty: none, at no cost.
+  MotionObserver on_motion;
 };
 
 struct JointRange {
@@ -91,6 +115,9 @@ class PostSession {
 
   // Completes the program (renaming the files into place) and returns the summary.
   const PostSummary& finish();
+
+  // Replaces PostOptions::on_motion, for hosts that attach an observer after opening.
+  void set_motion_observer(MotionObserver observer);
 
   const PoseResult& last_pose() const;
   const PostSummary& summary() const;

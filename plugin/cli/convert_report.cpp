@@ -1,0 +1,418 @@
+#include "convert_report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "redpost/error.hpp"
+#include "redpost/report/html_report.hpp"
+#include "redpost/report/plot_scale.hpp"
+
+namespace redpost::cli {
+
+namespace {
+
+namespace rep = redpost::report;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kRadToDeg = 57.295779513082320876798;
+// Fraction of a joint's range next to each limit where the tracker pushes the joint back
+// (NullSpaceGains::limit_zone): the band drawn on the joints plot.
+constexpr double kLimitZone = 0.1;
+// Buckets of the plots against the motion index: about one per pixel of a wide plot, which
+// keeps the twelve or so decimators at ~100 KB each.
+constexpr int kBuckets = 1000;
+// The toolpath views keep at most this many points (see Toolpath).
+constexpr std::size_t kMaxPathPoints = 100000;
+
+struct JointInfo {
+  std::string name;
+  std::string axis;  // "A1".."E6" or "none"
+  bool prismatic = false;
+  int axis_index = -1;  // into rp_motion::axes, -1: the joint has no controller axis
+  bool external() const { return !axis.empty() && axis[0] == 'E'; }
+  std::string label() const { return axis == "none" ? name : name + " (" + axis + ")"; }
+};
+
+// The toolpath in the CL frame, thinned as it streams: a point closer than tol_mm to the last
+// kept one is dropped, but its 1/kappa_F is folded into that point (the minimum), so a badly
+// conditioned spot stays visible. When the list outgrows kMaxPathPoints, the tolerance doubles
+// and the list is thinned again, so memory stays bounded whatever the run length.
+class Toolpath {
+ public:
+  // Single precision: 0.1 um at 1 m, far below a pixel, and half the memory.
+  struct Point {
+    float p[3];
+    float value;
+  };
+
+  void add(const double p[3], double value) {
+    last_ = Point{{static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])},
+                  static_cast<float>(value)};
+    has_last_ = true;
+    if (!points_.empty() && distance(points_.back(), last_) < tol_mm_) {
+      points_.back().value = std::min(points_.back().value, last_.value);
+      last_dropped_ = true;
+      return;
+    }
+    points_.push_back(last_);
+    last_dropped_ = false;
+    while (points_.size() > kMaxPathPoints) {
+      tol_mm_ *= 2.0;
+      rethin();
+    }
+  }
+
+  // f(point) for every kept point and the path's end point, in path order.
+  template <class F>
+  void for_each(F&& f) const {
+    for (const Point& p : points_)
+      f(p);
+    if (has_last_ && last_dropped_)
+      f(last_);
+  }
+  std::size_t size() const { return points_.size() + (has_last_ && last_dropped_ ? 1 : 0); }
+  double tolerance_mm() const { return tol_mm_; }
+
+ private:
+  static double distance(const Point& a, const Point& b) {
+    const double dx = a.p[0] - b.p[0], dy = a.p[1] - b.p[1], dz = a.p[2] - b.p[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  void rethin() {
+    std::size_t kept = 1;
+    for (std::size_t i = 1; i < points_.size(); ++i) {
+      if (distance(points_[kept - 1], points_[i]) < tol_mm_) {
+        points_[kept - 1].value = std::min(points_[kept - 1].value, points_[i].value);
+      } else {
+        points_[kept++] = points_[i];
+      }
+    }
+    points_.resize(kept);
+  }
+
+  std::vector<Point> points_;
+  Point last_{};
+  bool has_last_ = false;
+  bool last_dropped_ = false;
+  double tol_mm_ = 0.001;
+};
+
+rep::HLine hline(double y, std::string name, bool right_axis = false) {
+  rep::HLine h;
+  h.y = y;
+  h.name = std::move(name);
+  h.right_axis = right_axis;
+  return h;
+}
+
+rep::HBand hband(double lo, double hi, std::string name) {
+  rep::HBand b;
+  b.y_lo = lo;
+  b.y_hi = hi;
+  b.name = std::move(name);
+  return b;
+}
+
+// The motion-number axis ends at the last motion (a free end would grow to the next tick).
+rep::Axis motion_axis(long motions) {
+  rep::Axis a = rep::make_axis("motion", "");
+  if (motions > 1) {
+    a.min = 0.0;
+    a.max = static_cast<double>(motions);
+  }
+  return a;
+}
+
+rep::Series series_of(std::string name, rep::XYSeries data) {
+  rep::Series s;
+  s.name = std::move(name);
+  s.x = std::move(data.x);
+  s.y = std::move(data.y);
+  return s;
+}
+
+std::string unit_of(const JointInfo& j) {
+  return j.prismatic ? "mm" : "deg";
+}
+
+}  // namespace
+
+struct ConvertReport::Impl {
+  std::vector<JointInfo> joints;
+  // Against the motion index: one per joint (in controller units, deg or mm), then the rest.
+  std::vector<rep::MinMaxDecimator> joint_values;
+  rep::MinMaxDecimator inv_condition{kBuckets}, iterations{kBuckets}, feed{kBuckets};
+  Toolpath path;
+  double threshold = kNaN;
+  long motions = 0;
+
+  // The value of joint i as the robot programmer reads it, in the units rp_joint_range uses.
+  double value_of(const rp_motion& m, std::size_t i) const {
+    const JointInfo& j = joints[i];
+    if (j.axis_index >= 0)
+      return m.axes[j.axis_index];
+    const double q = i < static_cast<std::size_t>(m.joint_count) ? m.joints[i] : kNaN;
+    return j.prismatic ? q : q * kRadToDeg;
+  }
+
+  void on_motion(const rp_motion& m) {
+    ++motions;
+    const double x = static_cast<double>(m.index);
+    for (std::size_t i = 0; i < joints.size(); ++i)
+      joint_values[i].push(x, value_of(m, i));
+    inv_condition.push(x, m.inv_condition);
+    iterations.push(x, m.iterations);
+    feed.push(x, m.feed_mm_per_min);
+    threshold = m.conditioning_threshold;
+    path.add(m.tcp, m.inv_condition);
+  }
+
+  static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
+};
+
+ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>()) {
+  static const char* const kAxes[] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                                      "E1", "E2", "E3", "E4", "E5", "E6"};
+  rp_joint_range_info r{};
+  for (int i = 0; rp_joint_range(session, i, &r) == RP_OK; ++i) {
+    JointInfo j;
+    j.name = r.name;
+    j.axis = r.axis_name;
+    j.prismatic = r.prismatic != 0;
+    for (int k = 0; k < 12; ++k) {
+      if (j.axis == kAxes[k])
+        j.axis_index = k;
+    }
+    impl_->joints.push_back(std::move(j));
+    impl_->joint_values.emplace_back(kBuckets);
+  }
+  if (rp_set_motion_observer(session, &Impl::observe, impl_.get()) != RP_OK) {
+    throw Error(ErrorCode::internal,
+                std::string("cannot watch the motions for the report: ") + rp_last_error(session));
+  }
+}
+
+ConvertReport::~ConvertReport() = default;
+
+void ConvertReport::write(const std::string& path, const rp_session* session,
+                          const ConvertReportContext& context) const {
+  const Impl& d = *impl_;
+  rp_summary summary{};
+  rp_summary_get(session, &summary);
+
+  try {
+    rep::HtmlReport r("redpost convert: " + context.program);
+    r.add_summary("input", context.input);
+    r.add_summary("cell", context.cell);
+    r.add_summary("program", context.program);
+    r.add_summary("poses tracked", fmt::format("{}", summary.poses));
+    r.add_summary("motions written", fmt::format("{}", summary.motions));
+    r.add_summary("conversion time", fmt::format("{:.2f} s", context.seconds));
+    r.add_summary("lowest 1/kappa_F",
+                  fmt::format("{:.3f} (CL line {})", summary.lowest_inv_condition,
+                              summary.lowest_inv_condition_line));
+    const std::size_t warning_count =
+        static_cast<std::size_t>(summary.warnings) + context.reader_warnings.size();
+    r.add_summary("warnings", fmt::format("{}", warning_count));
+
+    // --- Summary: limits and warnings ---------------------------------------------------------
+    r.add_section("Joint ranges and margins to the limits");
+    struct Limits {
+      double lo = kNaN, hi = kNaN;
+    };
+    std::vector<Limits> limits(d.joints.size());
+    rep::Table t;
+    t.caption =
+        "Values in controller units where the joint has an axis (A1..E6), else DH degrees or mm. "
+        "Margins are the smallest distances to each limit over all poses tracked.";
+    t.header = {"joint",       "axis",        "unit",       "lowest",      "highest",
+                "lower limit", "upper limit", "margin low", "margin high", "margin [% of range]"};
+    std::vector<std::string> near_limit;
+    for (std::size_t i = 0; i < d.joints.size(); ++i) {
+      rp_joint_range_info jr{};
+      if (rp_joint_range(session, static_cast<int>(i), &jr) != RP_OK)
+        continue;
+      const JointInfo& j = d.joints[i];
+      // The limits follow from the range and its margins (rp_joint_range).
+      Limits& l = limits[i];
+      l.lo = jr.lowest - jr.margin_lower;
+      l.hi = jr.highest + jr.margin_upper;
+      const double range = l.hi - l.lo;
+      const double margin_pct =
+          range > 0 ? 100.0 * std::min(jr.margin_lower, jr.margin_upper) / range : kNaN;
+      const int decimals = j.prismatic ? 1 : 2;
+      t.rows.push_back({rep::text(j.name), rep::text(j.axis), rep::text(unit_of(j)),
+                        rep::num(jr.lowest, decimals), rep::num(jr.highest, decimals),
+                        rep::num(l.lo, decimals), rep::num(l.hi, decimals),
+                        rep::num(jr.margin_lower, decimals), rep::num(jr.margin_upper, decimals),
+                        rep::num(margin_pct, 1)});
+      if (margin_pct < 100.0 * kLimitZone) {
+        near_limit.push_back(
+            fmt::format("{} came within {:.1f} % of its range of a limit", j.label(), margin_pct));
+      }
+    }
+    r.add_table(t);
+    for (const std::string& w : near_limit)
+      r.add_warning(w);
+    // Every warning up to a screenful; the rest are counted (the terminal printed them all).
+    constexpr std::size_t kMaxWarnings = 50;
+    std::size_t shown = 0;
+    auto warn = [&](const std::string& w) {
+      if (shown++ < kMaxWarnings)
+        r.add_warning(w);
+    };
+    for (const std::string& w : context.reader_warnings)
+      warn(w);
+    for (int i = 0; const char* w = rp_warning(session, i); ++i)
+      warn(w);
+    if (shown > kMaxWarnings)
+      r.add_paragraph(fmt::format("... and {} more warnings.", shown - kMaxWarnings));
+
+    const std::size_t width = d.inv_condition.bucket_width();
+    if (width > 1) {
+      r.add_paragraph(fmt::format(
+          "The plots below show {} motions, each point pair the lowest and highest value of {} "
+          "consecutive motions: no peak is lost, however short.",
+          d.motions, width));
+    }
+
+    // --- Joints -------------------------------------------------------------------------------
+    r.add_section("Joints");
+    rep::LinePlot jp;
+    jp.title = "Joint positions, normalised to their limits (0 = lower, 1 = upper limit)";
+    jp.x = motion_axis(d.motions);
+    jp.y = rep::make_axis("position in range", "1");
+    jp.y.min = 0.0;
+    jp.y.max = 1.0;
+    jp.bands.push_back(hband(0.0, kLimitZone, "limit zone (tracker pushes back)"));
+    jp.bands.push_back(hband(1.0 - kLimitZone, 1.0, ""));
+    for (std::size_t i = 0; i < d.joints.size(); ++i) {
+      const Limits& l = limits[i];
+      if (!(l.hi > l.lo))
+        continue;
+      rep::XYSeries s = d.joint_values[i].result();
+      for (double& y : s.y)
+        y = (y - l.lo) / (l.hi - l.lo);
+      jp.series.push_back(series_of(d.joints[i].label(), std::move(s)));
+    }
+    r.add_plot(std::move(jp));
+
+    // --- Conditioning -------------------------------------------------------------------------
+    rep::LinePlot kp;
+    kp.title = "Inverse condition number 1/kappa_F of the arm";
+    kp.x = motion_axis(d.motions);
+    kp.y = rep::make_axis("1/kappa_F", "1");
+    kp.y.min = 0.0;
+    kp.series.push_back(series_of("1/kappa_F", d.inv_condition.result()));
+    if (std::isfinite(d.threshold)) {
+      kp.hlines.push_back(hline(d.threshold, fmt::format("switch threshold {:g}", d.threshold)));
+    }
+    r.add_plot(std::move(kp));
+
+    // --- External axes ------------------------------------------------------------------------
+    bool has_mm = false, has_deg = false;
+    for (const JointInfo& j : d.joints) {
+      if (j.external())
+        (j.prismatic ? has_mm : has_deg) = true;
+    }
+    if (has_mm || has_deg) {
+      rep::LinePlot ep;
+      ep.title = "External axes";
+      ep.x = motion_axis(d.motions);
+      // Tracks in mm on the left; turn tables in degrees on the right (or left when alone).
+      ep.y = has_mm ? rep::make_axis("track", "mm") : rep::make_axis("table", "deg");
+      ep.has_y2 = has_mm && has_deg;
+      if (ep.has_y2)
+        ep.y2 = rep::make_axis("table", "deg");
+      for (std::size_t i = 0; i < d.joints.size(); ++i) {
+        const JointInfo& j = d.joints[i];
+        if (!j.external())
+          continue;
+        rep::Series s = series_of(j.label() + " [" + unit_of(j) + "]", d.joint_values[i].result());
+        s.right_axis = ep.has_y2 && !j.prismatic;
+        s.dashed = s.right_axis;
+        ep.series.push_back(std::move(s));
+      }
+      r.add_plot(std::move(ep));
+    }
+
+    // --- Iterations and feed ------------------------------------------------------------------
+    r.add_section("Solver and feed");
+    rep::LinePlot ip;
+    ip.title = "Iterations per written pose";
+    ip.x = motion_axis(d.motions);
+    ip.y = rep::make_axis("iterations", "");
+    ip.y.min = 0.0;
+    ip.series.push_back(series_of("iterations", d.iterations.result()));
+    ip.width = 620;
+    ip.height = 300;
+    r.add_plot(std::move(ip));
+
+    rep::LinePlot fp;
+    fp.title = "Feed of the cutting moves (gaps: rapids)";
+    fp.x = motion_axis(d.motions);
+    fp.y = rep::make_axis("feed", "mm/min");
+    fp.y.min = 0.0;
+    fp.series.push_back(series_of("feed", d.feed.result()));
+    // Headroom above the highest feed: a constant feed would otherwise run along the frame.
+    double feed_max = 0.0;
+    for (double f : fp.series.back().y) {
+      if (std::isfinite(f))
+        feed_max = std::max(feed_max, f);
+    }
+    if (feed_max > 0.0)
+      fp.y.max = 1.15 * feed_max;
+    fp.width = 620;
+    fp.height = 300;
+    r.add_plot(std::move(fp));
+
+    // --- Toolpath -----------------------------------------------------------------------------
+    r.add_section("Toolpath in the CL frame, coloured by 1/kappa_F");
+    if (d.path.tolerance_mm() > 0.001) {
+      r.add_paragraph(fmt::format(
+          "Points closer than {:g} mm to the last one drawn are left out (each drawn point "
+          "shows the lowest 1/kappa_F of those it stands for).",
+          d.path.tolerance_mm()));
+    }
+    const char* views[3][3] = {{"XY", "x", "y"}, {"XZ", "x", "z"}, {"YZ", "y", "z"}};
+    for (const auto& v : views) {
+      rep::XYView view;
+      view.title = std::string("Toolpath, ") + v[0] + " projection";
+      view.x = rep::make_axis(v[1], "mm");
+      view.y = rep::make_axis(v[2], "mm");
+      view.colour = rep::make_axis("1/kappa_F", "1");
+      rep::PointSet s;
+      s.name = "TCP";
+      s.connect = true;
+      s.markers = false;
+      const int a = v[1][0] - 'x', b = v[2][0] - 'x';
+      s.x.reserve(d.path.size());
+      s.y.reserve(d.path.size());
+      s.value.reserve(d.path.size());
+      d.path.for_each([&](const Toolpath::Point& p) {
+        s.x.push_back(p.p[a]);
+        s.y.push_back(p.p[b]);
+        s.value.push_back(p.value);
+      });
+      view.sets.push_back(std::move(s));
+      view.width = 420;
+      view.height = 400;
+      r.add_plot(std::move(view));
+    }
+    r.write(path);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    // The report library names the file for write errors; the location names it for the rest.
+    throw Error(ErrorCode::io, std::string("report: ") + e.what(), SourceLocation{path, 0, 0});
+  }
+}
+
+}  // namespace redpost::cli

@@ -1,0 +1,47 @@
+// The HTML report of `redpost convert --report` (issue 9): what the conversion did to the cell,
+// motion by motion, drawn with redpost::report.
+//
+// The samples come through the C ABI's motion observer (rp_set_motion_observer), like any
+// host would get them, and are streamed into bounded summaries as they arrive: min/max
+// decimators for the plots against the motion index and a thinned point list for the toolpath
+// views. Memory does not grow with the length of the run (a 1M-pose convert included).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "redpost.h"
+
+namespace redpost::cli {
+
+// What the report says about the run besides the samples.
+struct ConvertReportContext {
+  std::string input;     // the CL file
+  std::string cell;      // the cell definition file
+  std::string program;   // the KRL program name
+  double seconds = 0.0;  // conversion time
+  std::vector<std::string> reader_warnings;
+};
+
+class ConvertReport {
+ public:
+  // Reads the session's joints (rp_joint_range) and attaches the observer. The session must
+  // be open; the report must outlive the events sent to it. Throws Error when the ABI refuses.
+  explicit ConvertReport(rp_session* session);
+  ~ConvertReport();
+  ConvertReport(const ConvertReport&) = delete;
+  ConvertReport& operator=(const ConvertReport&) = delete;
+
+  // After a successful rp_close: writes the report to path atomically (through path.tmp).
+  // Throws Error(io) naming the path when it cannot be written.
+  void write(const std::string& path, const rp_session* session,
+             const ConvertReportContext& context) const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace redpost::cli

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# report.calibrate_and_place: the reports of `redpost calibrate --report` and `redpost place
+# --report`, written by the real commands and rendered in headless chromium (render_check.sh):
+# no console errors, not blank, the expected number of plots. Exit 77 (skip) without chromium.
+#
+#   test_command_reports.sh <path-to-redpost> <source-dir> <out-dir>
+set -u
+BIN=$1
+SRC=$(cd "$2" && pwd)
+OUT=$3
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$OUT" && mkdir -p "$OUT" || exit 1
+fail() { echo "report.calibrate_and_place: FAIL: $*" >&2; exit 1; }
+
+# Calibration: readings from a "true" Andres cell whose link 1 d is off by 0.4 mm.
+ANDRES="$SRC/definitions/cells/andres2011_kr15_track_table.xml"
+sed 's|<dh alpha="90" a="803" theta="0" d="-305"/>|<dh alpha="90" a="803" theta="0" d="-304.6"/>|' \
+  "$ANDRES" >"$OUT/true.xml"
+"$BIN" calibrate simulate --cell "$ANDRES" --true "$OUT/true.xml" -o "$OUT/r.csv" >/dev/null ||
+  fail "simulate"
+"$BIN" calibrate simulate --cell "$ANDRES" --true "$OUT/true.xml" --validation 48 \
+  -o "$OUT/v.csv" >/dev/null || fail "simulate --validation"
+"$BIN" calibrate --cell "$ANDRES" --readings "$OUT/r.csv" --validate "$OUT/v.csv" \
+  --report "$OUT/calibrate.html" >/dev/null || fail "calibrate --report"
+
+# Placement: the example job on a coarse grid (the report's structure does not depend on it).
+sed -e 's|points_per_segment="20"|points_per_segment="6"|' \
+    -e 's|step="5deg" max_step="10deg" max_joint_step="20deg"|step="15deg" max_step="30deg" max_joint_step="45deg"|' \
+    -e 's|global_evaluations="[0-9]*"|global_evaluations="120"|' \
+    -e 's|local_evaluations="[0-9]*"|local_evaluations="40"|' \
+    -e "s|file=\"../../definitions|file=\"$SRC/definitions|" \
+    "$SRC/examples/placement/caro2014_job.xml" >"$OUT/job.xml"
+"$BIN" place "$OUT/job.xml" -o "$OUT/place" --report "$OUT/place.html" >/dev/null ||
+  fail "place --report"
+
+rc=0
+"$here/render_check.sh" "$OUT/calibrate.html" 10 "$OUT/calibrate.png" 3000 || rc=$?
+[[ $rc -eq 0 ]] || exit $rc
+"$here/render_check.sh" "$OUT/place.html" 7 "$OUT/place.png" 3000 || rc=$?
+exit $rc
