@@ -44,13 +44,13 @@ rep::HeatMap cost_map_plot(const PlacementProblem& pb, const CostMap& map, const
     hm.y_centres.push_back(rad_to_deg(pb.grid().beta_rad(b)));
   // The plans as polylines, broken where beta wraps around (a jump of nearly 360 deg is a step
   // of a few degrees on the circle, not a sweep across the map).
-  auto overlay = [&](const SpinPlan& plan, const char* name, const char* colour) {
+  auto overlay = [&](const SpinPlan& drawn, const char* name, const char* line_colour) {
     rep::Series s;
     s.name = name;
-    s.color = colour;
+    s.color = line_colour;
     s.line_width = 2.5;
     for (int i = 0; i < map.points; ++i) {
-      const double beta = rad_to_deg(pb.grid().beta_rad(plan.beta_index[static_cast<size_t>(i)]));
+      const double beta = rad_to_deg(pb.grid().beta_rad(drawn.beta_index[static_cast<size_t>(i)]));
       const bool new_segment = i > 0 && pb.path()[static_cast<size_t>(i)].segment !=
                                             pb.path()[static_cast<size_t>(i - 1)].segment;
       if (!s.y.empty() && (new_segment || std::abs(beta - s.y.back()) > 180.0)) {
