@@ -66,7 +66,13 @@ class ClLineSource {
     std::streambuf* sb = in_.rdbuf();
     if (!sb || in_.bad())
       throw Error(ErrorCode::io, "cannot read the CL stream", SourceLocation{source_, 0, 0});
-    const std::streamsize got = sb->sgetn(buffer_.get(), kBufferBytes);
+    std::streamsize got = 0;
+    try {
+      got = sb->sgetn(buffer_.get(), kBufferBytes);
+    } catch (const std::ios_base::failure&) {  // libstdc++'s filebuf on a failed read()
+      throw Error(ErrorCode::io, "read error: is it a readable regular file?",
+                  SourceLocation{source_, line_number_ + 1, 0});
+    }
     if (got <= 0) {
       in_.setstate(std::ios::eofbit);
       return false;

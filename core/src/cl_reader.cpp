@@ -179,8 +179,9 @@ struct ClReader::Impl {
   std::set<std::string, std::less<>> unknown_words;  // unknown major words already reported
 
   // ---- machine state -------------------------------------------------------------------------
-  bool nx;               // NX CLSF conventions (see ClDialect)
-  double unit_mm = 1.0;  // mm per unit of length in the file
+  bool nx;                   // NX CLSF conventions (see ClDialect)
+  double unit_mm = 1.0;      // mm per unit of length in the file
+  bool units_given = false;  // a UNITS record was read
   bool multax = false;
   bool axis_known = false;  // a TLAXIS or a GOTO with i,j,k was seen
   Vector3d axis = Vector3d::UnitZ();
@@ -365,6 +366,15 @@ struct ClReader::Impl {
         continue;
       }
       if (!is_word_char(c) || (word.empty() && !is_letter(c))) {
+        // A byte that cannot be printed is shown in hex: it means binary data (a compressed
+        // or executable file given by mistake).
+        const auto u = static_cast<unsigned char>(c);
+        if (u < 0x20 || u >= 0x7f) {
+          const char* hex = "0123456789abcdef";
+          fail_at(word_offset + i, std::string("malformed record: byte 0x") + hex[u >> 4] +
+                                       hex[u & 15] +
+                                       " in the major word: is this a CL text file (APT or CLSF)?");
+        }
         fail_at(word_offset + i,
                 std::string("malformed record: unexpected '") + c +
                     "' in the major word (expected a word such as GOTO, then '/')");
@@ -500,6 +510,12 @@ struct ClReader::Impl {
 
   void push_move(const Vector3d& p, const Vector3d& tool_axis, MoveOrigin origin, bool rapid,
                  int line_no) {
+    // Most CAM systems write no UNITS record (NX CLSF never does) and mean mm; a file in inches
+    // without one would come out 25.4 times too small. Say so once, where it matters.
+    if (!units_given)
+      warn_once("UNITS", line_no,
+                "no UNITS record before the first motion: coordinates are read as mm (add "
+                "UNITS/INCHES at the top of the file if the CAM system wrote inches)");
     ClEvent& e = push(ClEventKind::move, line_no);
     e.p_mm = p;
     e.tool_axis = tool_axis;
@@ -1478,6 +1494,7 @@ struct ClReader::Impl {
   // Programme and coordinate systems
 
   void on_units() {
+    units_given = true;
     split_fields();
     expect_count(1, 1, "MM or INCHES");
     const Field& f = fields[0];

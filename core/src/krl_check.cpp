@@ -207,8 +207,10 @@ std::string dat_of(const fs::path& src) {
   return "";
 }
 
+// The reader's limit (16 MiB): a larger file is no controller program, and reading it whole
+// would let a hostile input take any amount of memory.
 std::string read_all(const std::string& path) {
-  return read_text_file(path, std::numeric_limits<std::size_t>::max());
+  return read_text_file(path);
 }
 
 }  // namespace

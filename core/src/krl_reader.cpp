@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -151,6 +153,8 @@ int parse_integer_field(Cursor& c, const std::string& field) {
                                                            : 99;
       if (dv >= base)
         fail(c.file, c.line, "malformed aggregate: bad literal '" + lit + "' for " + field);
+      if (v > (INT_MAX - dv) / base)  // S and T are small; a longer literal would overflow
+        fail(c.file, c.line, "malformed aggregate: literal '" + lit + "' too large for " + field);
       v = v * base + dv;
     }
     return static_cast<int>(v);
@@ -159,7 +163,9 @@ int parse_integer_field(Cursor& c, const std::string& field) {
   char* end = nullptr;
   errno = 0;
   double v = std::strtod(start, &end);  // "6" or "6.0"
-  if (end == start || errno != 0 || v != static_cast<double>(static_cast<int>(v)))
+  // Range first: converting a double outside int's range (or NaN) is undefined behaviour.
+  if (end == start || errno != 0 || !(v >= INT_MIN && v <= INT_MAX) ||
+      v != static_cast<double>(static_cast<int>(v)))
     fail(c.file, c.line, "malformed aggregate: " + field + " needs an integer or 'B...' value");
   c.pos += static_cast<std::size_t>(end - start);
   return static_cast<int>(v);
@@ -173,6 +179,18 @@ double parse_real_field(Cursor& c, const std::string& field) {
   double v = std::strtod(start, &end);
   if (end == start || errno != 0)
     fail(c.file, c.line, "malformed aggregate: " + field + " needs a number");
+  // strtod also reads "nan", "inf" and hex floats, which are not KRL literals; a NaN would
+  // compare as "within tolerance" in a diff. KRL's REAL is a 32-bit float.
+  const bool decimal = std::all_of(start, static_cast<const char*>(end), [](char ch) {
+    return std::isdigit(static_cast<unsigned char>(ch)) || ch == '.' || ch == '+' || ch == '-' ||
+           ch == 'e' || ch == 'E';
+  });
+  if (!decimal || !(std::abs(v) <= 3.4e38)) {
+    fail(c.file, c.line,
+         "malformed aggregate: " + field + " = " +
+             std::string(start, static_cast<const char*>(end)) +
+             " is not a finite decimal number within the range of a KRL REAL");
+  }
   c.pos += static_cast<std::size_t>(end - start);
   return v;
 }

@@ -7,8 +7,10 @@
 //   redpost calibrate --cell C.xml --readings R.csv [--validate V.csv] [--loss huber]
 //                     [--json J] [-o CALIBRATED.xml]
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -168,7 +170,7 @@ void write_file(const std::string& path, const std::string& text) {
   out << text;
   out.close();
   if (!out)
-    throw Error(ErrorCode::io, fmt::format("error writing '{}'", path));
+    throw Error(ErrorCode::io, fmt::format("error writing '{}': {}", path, std::strerror(errno)));
 }
 
 // The points of the plan: the meshes of eqs. 2-4, or with --validation N random points on the
@@ -194,8 +196,13 @@ std::vector<CalibrationPoint> planned_points(const PlanArgs& args, const Cell& c
 // never leaves a half-written file under the final name.
 void write_file_atomic(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".part";
-  write_file(tmp, text);
   std::error_code ec;
+  try {
+    write_file(tmp, text);
+  } catch (...) {  // a full disk: no half-written .part left behind
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);

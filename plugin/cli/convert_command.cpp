@@ -142,8 +142,21 @@ int report(rp_status status, const std::string& message) {
   return kExitBadInput;
 }
 
+// The report is written after the program: a folder that cannot take it must stop the run
+// before the conversion, not after it with the program written and exit code 2.
+void check_report_folder(const std::string& path) {
+  const std::filesystem::path p(path), folder = p.has_parent_path() ? p.parent_path() : ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec) || ::access(folder.c_str(), W_OK) != 0) {
+    throw BadArgument{"redpost: " + path + ": --report: the folder '" + folder.string() +
+                      "' does not exist or is not writable; create it or choose another path"};
+  }
+}
+
 int run_convert(const ConvertOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (!opt.report_html.empty())
+    check_report_folder(opt.report_html);
   double placement[6] = {0, 0, 0, 0, 0, 0};
   if (!opt.placement.empty())
     parse_placement(opt.placement, placement);

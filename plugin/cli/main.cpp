@@ -1,4 +1,5 @@
 // redpost: the command-line host.
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
@@ -8,6 +9,10 @@
 #include "redpost/error.hpp"
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) must fail a write with EFBIG, as a full disk fails it with
+  // ENOSPC, so that the error is reported and the temporary files are removed, instead of
+  // killing the process. Only the command does this: the library leaves signals to its host.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"redpost: postprocessor for redundant robotic milling cells"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "redpost 0.1.0");

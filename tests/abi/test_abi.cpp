@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "redpost.h"  // compiles as C++ too: this file is the check
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -25,28 +26,13 @@ namespace {
 const std::string kSource = REDPOST_SOURCE_DIR;
 const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
 
-// The directories made by fresh_dir, removed when the test process ends.
-struct RemoveAtExit {
-  std::vector<fs::path> dirs;
-  ~RemoveAtExit() {
-    for (const fs::path& d : dirs) {
-      std::error_code ec;
-      fs::remove_all(d, ec);
-    }
-  }
-};
-RemoveAtExit& made_dirs() {
-  static RemoveAtExit dirs;
-  return dirs;
-}
-
 // A fresh, empty directory in the temp area, per process (ctest -j runs the cases in parallel).
 std::string fresh_dir(const std::string& name) {
   const fs::path d =
       fs::temp_directory_path() / ("redpost_abi_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
-  made_dirs().dirs.push_back(d);
+  redpost::test::remove_at_exit(d);
   return d.string();
 }
 

@@ -389,11 +389,11 @@ foreach {name set input extra} $cases {
     set ea [string map [list JOINTS $a/joints.csv] $extra]
     set eb [string map [list JOINTS $b/joints.csv] $extra]
     check replay.$name.convert {
-        exec $redpost convert $cl/$input --cell $cell --krl $krl/$set.xml -o $a --name $prog -q {*}$ea
+        exec -ignorestderr -- $redpost convert $cl/$input --cell $cell --krl $krl/$set.xml -o $a --name $prog -q {*}$ea
         set _ ok
     } ok
     check replay.$name.replay {
-        exec $tclsh $src/tcl/nx_replay.tcl --lib $libdir --cell $cell --krl $krl/$set.xml -o $b \
+        exec -ignorestderr -- $tclsh $src/tcl/nx_replay.tcl --lib $libdir --cell $cell --krl $krl/$set.xml -o $b \
             --name $prog -q {*}$eb $cl/$input
         set _ ok
     } ok
@@ -409,8 +409,8 @@ foreach input {pocket_arcs.apt surface_5axis.cls} {
     set b $work/replay_default/$input
     file mkdir $a $b
     check replay.default_name.$input {
-        exec $redpost convert $cl/$input --cell $cell -o $a -q
-        exec $tclsh $src/tcl/nx_replay.tcl --lib $libdir --cell $cell -o $b -q $cl/$input
+        exec -ignorestderr -- $redpost convert $cl/$input --cell $cell -o $a -q
+        exec -ignorestderr -- $tclsh $src/tcl/nx_replay.tcl --lib $libdir --cell $cell -o $b -q $cl/$input
         same_dirs $a $b
     } same
 }

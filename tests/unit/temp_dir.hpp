@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace redpost::test {
 
@@ -26,5 +27,21 @@ struct TempDir {
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;
 };
+
+// Registers a directory to be removed with everything in it when the test process ends (for
+// scratch directories whose lifetime spans several test cases).
+inline void remove_at_exit(const std::filesystem::path& dir) {
+  struct Registry {
+    std::vector<std::filesystem::path> dirs;
+    ~Registry() {
+      for (const auto& d : dirs) {
+        std::error_code ec;
+        std::filesystem::remove_all(d, ec);
+      }
+    }
+  };
+  static Registry registry;
+  registry.dirs.push_back(dir);
+}
 
 }  // namespace redpost::test

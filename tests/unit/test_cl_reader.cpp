@@ -498,6 +498,7 @@ TEST_CASE("cl_reader: LOAD/TOOL and LOADTL change tools; SELECT/TOOL only presel
 
 TEST_CASE("cl_reader: MSYS, PAINT, CSYS, TRNTYP and CUTCOM are read and give no motion") {
   const auto r = read_all(
+      "UNITS/MM\n"
       "MSYS/393.0000,-297.5000,3.0000,0.0000000,1.0000000,0.0000000,1.0000000,0.0000000,0."
       "0000000\n"
       "PAINT/COLOR,186\n"
@@ -510,7 +511,7 @@ TEST_CASE("cl_reader: MSYS, PAINT, CSYS, TRNTYP and CUTCOM are read and give no 
   REQUIRE(r.events.size() == 1);
   CHECK(r.events[0].kind == ClEventKind::move);
   REQUIRE(r.warnings.size() == 1);  // once per file
-  CHECK(r.warnings[0].find("t.apt:5: CUTCOM/LEFT ignored") == 0);
+  CHECK(r.warnings[0].find("t.apt:6: CUTCOM/LEFT ignored") == 0);
 
   check_error("CSYS/1,0,0,5,0,1,0,0,0,0,1,0\n", 1, 1, "identity");
   check_error("TRNTYP/WORLD,0,0,10\n", 1, 1, "TRNTYP/WORLD,0,0,0");
@@ -519,6 +520,7 @@ TEST_CASE("cl_reader: MSYS, PAINT, CSYS, TRNTYP and CUTCOM are read and give no 
 
 TEST_CASE("cl_reader: unknown words give one event and one warning per word") {
   const auto r = read_all(
+      "UNITS/MM\n"
       "CSI_SET_FLUTE_LENGTH/5.\n"
       "LINTOL/0.01\n"
       "CSI_SET_FLUTE_LENGTH/73.\n"
@@ -530,11 +532,11 @@ TEST_CASE("cl_reader: unknown words give one event and one warning per word") {
   CHECK(unknown[0].text == "CSI_SET_FLUTE_LENGTH");
   CHECK(unknown[1].text == "LINTOL");
   CHECK(unknown[2].text == "OPSTOP");
-  CHECK(unknown[2].line == 4);
+  CHECK(unknown[2].line == 5);
   REQUIRE(r.warnings.size() == 3);
-  CHECK(r.warnings[0] == "t.apt:1: unknown word CSI_SET_FLUTE_LENGTH ignored");
-  CHECK(r.warnings[1] == "t.apt:2: unknown word LINTOL ignored");
-  CHECK(r.warnings[2] == "t.apt:4: unknown word OPSTOP ignored");
+  CHECK(r.warnings[0] == "t.apt:2: unknown word CSI_SET_FLUTE_LENGTH ignored");
+  CHECK(r.warnings[1] == "t.apt:3: unknown word LINTOL ignored");
+  CHECK(r.warnings[2] == "t.apt:5: unknown word OPSTOP ignored");
   CHECK(of_kind(r.events, ClEventKind::move).size() == 1);
 
   // Reporting stops after 1000 different words, with one more warning saying so.
@@ -894,7 +896,8 @@ TEST_CASE("cl_reader: NX cycles: RAPTO without RTRCTO, any tool axis, DEEP needs
   }
   check_error("CYCLE/DRILL,DEEP,RAPTO,3.0000,FEDTO,10.0000,MMPM,250.0000\n", 1, 1, "no peck depth");
   // FEDTO 0 (as in NX's sample) needs no pecks: the holes are touched, with a warning.
-  const auto r = read_all("CYCLE/DRILL,DEEP,RAPTO,3,FEDTO,0,MMPM,250\nGOTO/1,2,3\nCYCLE/OFF\n");
+  const auto r =
+      read_all("UNITS/MM\nCYCLE/DRILL,DEEP,RAPTO,3,FEDTO,0,MMPM,250\nGOTO/1,2,3\nCYCLE/OFF\n");
   CHECK(of_kind(r.events, ClEventKind::move).size() == 3);
   REQUIRE(r.warnings.size() == 1);
   CHECK(r.warnings[0].find("FEDTO 0") != std::string::npos);
@@ -1086,4 +1089,21 @@ TEST_CASE("cl_reader: a 200000-record stream is read in one pass") {
   CHECK(moves == 200000);
   CHECK(last_x == 199.999);
   CHECK(reader.warnings().empty());
+}
+
+TEST_CASE("cl_reader: a file without UNITS is read as mm, with one warning at the first motion") {
+  // Real CAM output rarely has UNITS (NX CLSF never); a file in inches without it would come
+  // out 25.4 times too small, so the reader says what it assumed.
+  const auto r = read_all("PARTNO/P\nFEDRAT/100\nGOTO/1,2,3\nGOTO/4,5,6\n");
+  REQUIRE(r.warnings.size() == 1);
+  CHECK(r.warnings[0].find("t.apt:3: no UNITS record before the first motion") == 0);
+  CHECK(r.warnings[0].find("UNITS/INCHES") != std::string::npos);
+  const auto moves = of_kind(r.events, ClEventKind::move);
+  REQUIRE(moves.size() == 2);
+  CHECK(moves[0].p_mm == Vector3d(1, 2, 3));
+  // With UNITS/INCHES: no warning, coordinates scaled by 25.4.
+  const auto in = read_all("UNITS/INCHES\nGOTO/1,2,3\n");
+  CHECK(in.warnings.empty());
+  REQUIRE(of_kind(in.events, ClEventKind::move).size() == 1);
+  CHECK(of_kind(in.events, ClEventKind::move)[0].p_mm.isApprox(Vector3d(25.4, 50.8, 76.2)));
 }

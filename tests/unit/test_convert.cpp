@@ -16,6 +16,7 @@
 #include "redpost/kuka_abc.hpp"
 #include "redpost/post_session.hpp"
 #include "redpost/text_file.hpp"
+#include "temp_dir.hpp"
 #include "test_support.hpp"
 
 using namespace redpost;
@@ -32,6 +33,7 @@ fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("redpost_test_convert_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
+  test::remove_at_exit(dir);
   return dir;
 }
 

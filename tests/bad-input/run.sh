@@ -1,0 +1,175 @@
+#!/usr/bin/env bash
+# The bad-input corpus (docs/reliability.md): every case of cases.txt is run in a fresh, empty
+# output directory, and must give the expected exit code (2 unless the manifest says
+# otherwise), the expected place (file:line) and message fragment on stderr, and leave the
+# output directory empty: no .src, .dat, .csv, .json, .html, .tmp or .part~ file, finished or
+# not. Cases marked maxrss=KB must also stay under that peak resident size.
+#
+#   tests/bad-input/run.sh <redpost> <source-dir> <scratch-dir>
+#
+# Large and special inputs (a 100 MB line, 100 000 nested elements, an unreadable file) are
+# made here in <scratch-dir>/gen, never committed.
+set -euo pipefail
+
+if [[ $# -ne 3 ]]; then
+  echo "usage: $0 <redpost> <source-dir> <scratch-dir>" >&2
+  exit 1
+fi
+BIN=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+SRC=$(cd "$2" && pwd)
+SCRATCH=$3
+[[ -x "$BIN" ]] || { echo "bad-input: FAIL: '$BIN' is not an executable" >&2; exit 1; }
+CASES=$SRC/tests/bad-input/cases
+MANIFEST=$SRC/tests/bad-input/cases.txt
+
+rm -rf "$SCRATCH"
+mkdir -p "$SCRATCH"
+SCRATCH=$(cd "$SCRATCH" && pwd)
+GEN=$SCRATCH/gen
+mkdir -p "$GEN"
+
+# --- generated inputs ------------------------------------------------------------------------
+# n copies of a character, without holding them in memory.
+repeat() { head -c "$2" /dev/zero | tr '\0' "$1"; }
+
+# A 100 MB single line (100 000 000 bytes, no newline inside) in each text format.
+{ printf 'PARTNO/LONG\nUNITS/MM\nPPRINT/'; repeat A 100000000; printf '\n'; } >"$GEN/long_line.apt"
+{ printf 'plane,distance,x,y,z,a,b,c,q1,q2\nz,0.2,'; repeat 1 100000000; printf '\n'; } \
+  >"$GEN/long_line.csv"
+mkdir -p "$GEN/long_line_krl"
+{ printf 'DEF LONG( )\n; '; repeat A 100000000; printf '\nEND\n'; } >"$GEN/long_line_krl/LONG.src"
+# 100 000 nested elements under each XML root.
+deep() {
+  { printf '<?xml version="1.0"?>\n<%s format="1">' "$1"; repeat '<' 100000 | sed 's/</<a>/g'
+    repeat '<' 100000 | sed 's|<|</a>|g'; printf '</%s>\n' "$1"; } >"$2"
+}
+deep cell "$GEN/deep_cell.xml"
+deep krl-templates "$GEN/deep_krl.xml"
+deep placement_job "$GEN/deep_job.xml"
+# A 20 MiB cell (sparse: costs no disk), beyond the 16 MiB limit of a definition.
+truncate -s 20M "$GEN/big_cell.xml"
+# Binary garbage: a compressed CL file (a common mistake) and a compressed readings file.
+gzip -c "$SRC/examples/cl/pocket_arcs.apt" >"$GEN/pocket_arcs.apt.gz"
+printf 'plane,distance,x,y,z,a,b,c,q1,q2\n' | cat - "$GEN/pocket_arcs.apt.gz" >"$GEN/garbage.csv"
+# An unreadable file (chmod 000 does not stop root: those cases are skipped as root).
+cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/unreadable.apt"
+chmod 000 "$GEN/unreadable.apt"
+# A regular file: a path under it cannot be created, not even by root.
+printf 'not a directory\n' >"$GEN/a_file"
+# A directory where a file is expected.
+mkdir -p "$GEN/a_dir.apt"
+
+# --- the runner ------------------------------------------------------------------------------
+if [[ $(id -u) -eq 0 ]]; then IS_ROOT=1; else IS_ROOT=0; fi
+if [[ -x /usr/bin/time ]]; then
+  measure() { /usr/bin/time -f %M -o "$1" "${@:2}"; }
+else
+  # Peak RSS of the child in KB from getrusage, as /usr/bin/time -f %M reports it.
+  measure() {
+    python3 - "$@" <<'PY'
+import resource, subprocess, sys
+rc = subprocess.call(sys.argv[2:])
+open(sys.argv[1], "w").write("%d\n" % resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+sys.exit(rc)
+PY
+  }
+fi
+
+before=$(cd "$CASES" && find . | LC_ALL=C sort | sha256sum)
+total=0
+passed=0
+skipped=0
+failed=0
+fail() {
+  echo "bad-input: FAIL: $name: $*" >&2
+  echo "  command: ${argv[*]}" >&2
+  echo "  exit code: $rc" >&2
+  sed 's/^/  stderr: /' "$dir/err" | head -c 2000 >&2
+  failed=$((failed + 1))
+}
+
+while IFS= read -r raw || [[ -n "$raw" ]]; do
+  [[ -z "${raw// /}" || "$raw" =~ ^[[:space:]]*# ]] && continue
+  IFS='|' read -r name args want_rc where fragment options <<<"$raw"
+  trim() { local s=$1; s=${s#"${s%%[![:space:]]*}"}; printf '%s' "${s%"${s##*[![:space:]]}"}"; }
+  name=$(trim "$name")
+  args=$(trim "$args")
+  want_rc=$(trim "$want_rc")
+  where=$(trim "$where")
+  fragment=$(trim "$fragment")
+  options=$(trim "${options:-}")
+  total=$((total + 1))
+  dir=$SCRATCH/$name
+  rm -rf "$dir"
+  mkdir -p "$dir/out"
+  if [[ " $options " == *" skip-root "* && $IS_ROOT -eq 1 ]]; then
+    echo "bad-input: SKIP $name: running as root, for whom chmod 000 does not stop reads"
+    skipped=$((skipped + 1))
+    continue
+  fi
+  # Placeholders are replaced word by word, so paths with blanks stay one argument.
+  argv=()
+  read -ra words <<<"$args"
+  for w in "${words[@]}"; do
+    w=${w//@CASES@/$CASES}
+    w=${w//@GEN@/$GEN}
+    w=${w//@OUT@/$dir/out}
+    w=${w//@SRC@/$SRC}
+    w=${w//@BIN@/$BIN}
+    w=${w//@CELL@/$SRC/definitions/cells/andres2011_kr15_track_table.xml}
+    w=${w//@KRL@/$SRC/definitions/krl/krc4_lin.xml}
+    argv+=("$w")
+  done
+  rc=0
+  (cd "$dir" && measure "$dir/rss" timeout 120 "$BIN" "${argv[@]}" </dev/null >"$dir/stdout" \
+    2>"$dir/err") || rc=$?
+  if [[ "$rc" -ne "$want_rc" ]]; then
+    fail "exit code $rc, expected $want_rc"
+    continue
+  fi
+  # Errors are on stderr; the findings of `redpost check` (exit 1) on stdout.
+  cat "$dir/err" "$dir/stdout" >"$dir/messages"
+  if [[ "$where" != "-" ]] && ! grep -qF -- "$where" "$dir/messages"; then
+    fail "the message does not name '$where'"
+    continue
+  fi
+  if [[ -n "$fragment" ]] && ! grep -qF -- "$fragment" "$dir/messages"; then
+    fail "the message does not say '$fragment'"
+    continue
+  fi
+  if [[ " $options " == *" accepted "* ]]; then
+    # Accepted on purpose (docs/reliability.md says why): a complete program, no temporaries.
+    if ! ls "$dir/out"/*.src >/dev/null 2>&1 || ls -A "$dir/out" | grep -q 'part~$'; then
+      fail "accepted input, but no complete program: $(ls -A "$dir/out" | tr '\n' ' ')"
+      continue
+    fi
+  elif [[ -n "$(ls -A "$dir/out")" ]]; then
+    fail "files left in the output directory: $(ls -A "$dir/out" | tr '\n' ' ')"
+    continue
+  fi
+  if [[ -n "$(ls -A "$dir" | grep -vxE 'out|rss|stdout|err|messages')" ]]; then
+    fail "files left in the working directory: $(ls -A "$dir" | tr '\n' ' ')"
+    continue
+  fi
+  for opt in $options; do
+    if [[ "$opt" == maxrss=* ]]; then
+      rss=$(tail -n 1 "$dir/rss")
+      if [[ "$rss" -gt "${opt#maxrss=}" ]]; then
+        fail "peak RSS $rss KB, more than ${opt#maxrss=} KB"
+        continue 2
+      fi
+      echo "bad-input: $name: peak RSS $rss KB (bound ${opt#maxrss=} KB)"
+    fi
+  done
+  passed=$((passed + 1))
+done <"$MANIFEST"
+
+chmod 600 "$GEN/unreadable.apt"
+rm -rf "$GEN"  # 300 MB of generated inputs
+after=$(cd "$CASES" && find . | LC_ALL=C sort | sha256sum)
+if [[ "$before" != "$after" ]]; then
+  echo "bad-input: FAIL: files were added to or removed from $CASES" >&2
+  failed=$((failed + 1))
+fi
+echo "bad-input: $total cases: $passed passed, $skipped skipped, $failed failed"
+[[ $failed -eq 0 ]]

@@ -1,0 +1,3 @@
+DEF PROG( )
+PTP {X 1, Y 2, Z 3, S 1e10}
+END
