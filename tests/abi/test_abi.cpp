@@ -28,12 +28,7 @@ const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_ta
 
 // A fresh, empty directory in the temp area, per process (ctest -j runs the cases in parallel).
 std::string fresh_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("redpost_abi_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  redpost::test::remove_at_exit(d);
-  return d.string();
+  return redpost::test::fresh_temp_dir("redpost_abi", name);
 }
 
 std::string slurp(const fs::path& p) {

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "redpost.h"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -22,11 +23,7 @@ const std::string kSource = REDPOST_SOURCE_DIR;
 const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
 
 std::string fresh_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("redpost_abi_obs_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
+  return redpost::test::fresh_temp_dir("redpost_abi_obs", name);
 }
 
 std::string slurp(const fs::path& p) {

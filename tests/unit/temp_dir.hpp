@@ -3,6 +3,7 @@
 #pragma once
 
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -42,6 +43,17 @@ inline void remove_at_exit(const std::filesystem::path& dir) {
   };
   static Registry registry;
   registry.dirs.push_back(dir);
+}
+
+// A fresh, empty directory "<prefix>_<pid>_<name>" in the temp area (per process: ctest -j runs
+// the cases of one executable in parallel processes), removed when the process ends.
+inline std::string fresh_temp_dir(const std::string& prefix, const std::string& name) {
+  const std::filesystem::path d = std::filesystem::temp_directory_path() /
+                                  (prefix + "_" + std::to_string(::getpid()) + "_" + name);
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  remove_at_exit(d);
+  return d.string();
 }
 
 }  // namespace redpost::test
