@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "krl_format.hpp"
+#include "redpost/durable_write.hpp"
 #include "redpost/error.hpp"
 
 namespace redpost {
@@ -343,10 +344,21 @@ struct KrlWriter::Impl {
     return files.size() - 1;
   }
 
+  // Closes a finished file, flushed to the disk first (durable_write.hpp): its rename in
+  // finish() must never give a final name to data still in the page cache.
   void close(std::FILE*& f, size_t file_index) {
-    const bool failed = std::ferror(f) != 0;
-    const int rc = std::fclose(f);
+    std::FILE* file = f;
     f = nullptr;
+    const bool failed = std::ferror(file) != 0;
+    if (!failed) {
+      try {
+        flush_to_disk(file, files[file_index].temp);
+      } catch (...) {
+        std::fclose(file);
+        throw;
+      }
+    }
+    const int rc = std::fclose(file);
     if (failed || rc != 0) {
       throw Error(ErrorCode::io, "cannot write: " + errno_text(),
                   SourceLocation{files[file_index].temp, 0, 0});
@@ -806,7 +818,14 @@ std::vector<std::string> KrlWriter::finish() {
     }
   }
 
-  // Only now do the files get their names, the main .src last.
+  // Only now do the files get their names, the main .src last. An older program of the same
+  // name loses its main .src first: a kill between two renames then leaves new parts or a new
+  // .dat without any main .src, never an old main .src that would run beside (or call) new files.
+  const std::string& main_src = w.files.back().final_path;
+  if (std::remove(main_src.c_str()) != 0 && errno != ENOENT) {
+    throw Error(ErrorCode::io, "cannot replace the existing program: " + errno_text(),
+                SourceLocation{main_src, 0, 0});
+  }
   for (Impl::File& f : w.files) {
     if (std::rename(f.temp.c_str(), f.final_path.c_str()) != 0) {
       throw Error(ErrorCode::io, "cannot rename " + f.temp + " to its final name: " + errno_text(),
@@ -814,6 +833,7 @@ std::vector<std::string> KrlWriter::finish() {
     }
     f.renamed = true;
   }
+  sync_directory(w.info.output_dir);
   w.finished = true;
 
   const auto src = [&](const std::string& name) {

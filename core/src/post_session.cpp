@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 
 #include "arc_chords.hpp"
+#include "redpost/durable_write.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"
 #include "redpost/status_turn.hpp"
@@ -44,11 +46,11 @@ std::string limits_text(const Joint& j) {
 class PendingFile {
  public:
   PendingFile() = default;
-  explicit PendingFile(std::string path) : path_(std::move(path)), temp_(path_ + ".part~") {
+  explicit PendingFile(std::string path) : path_(std::move(path)), temp_(temporary_path(path_)) {
     file_ = std::fopen(temp_.c_str(), "wb");
     if (!file_) {
       throw Error(ErrorCode::io, std::string("cannot create the file: ") + std::strerror(errno),
-                  SourceLocation{temp_, 0, 0});
+                  SourceLocation{path_, 0, 0});
     }
   }
   ~PendingFile() {
@@ -64,19 +66,27 @@ class PendingFile {
   void write(const fmt::memory_buffer& b) {
     if (std::fwrite(b.data(), 1, b.size(), file_) != b.size()) {
       throw Error(ErrorCode::io, std::string("write failed: ") + std::strerror(errno),
-                  SourceLocation{temp_, 0, 0});
+                  SourceLocation{path_, 0, 0});
     }
   }
   void commit() {
-    const bool flushed = std::fflush(file_) == 0;
-    const bool closed = std::fclose(file_) == 0;
+    std::FILE* file = file_;
     file_ = nullptr;
-    if (!flushed || !closed || std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    try {
+      flush_to_disk(file, path_);
+    } catch (...) {
+      std::fclose(file);
+      std::remove(temp_.c_str());
+      throw;
+    }
+    const bool closed = std::fclose(file) == 0;
+    if (!closed || std::rename(temp_.c_str(), path_.c_str()) != 0) {
       const int err = errno;
       std::remove(temp_.c_str());
       throw Error(ErrorCode::io, std::string("cannot complete the file: ") + std::strerror(err),
                   SourceLocation{path_, 0, 0});
     }
+    sync_directory(std::filesystem::path(path_).parent_path().string());
   }
 
  private:

@@ -7,13 +7,10 @@
 //   redpost calibrate --cell C.xml --readings R.csv [--validate V.csv] [--loss huber]
 //                     [--json J] [-o CALIBRATED.xml]
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -28,6 +25,7 @@
 #include "redpost/calibration_csv.hpp"
 #include "redpost/calibration_program.hpp"
 #include "redpost/cell_xml.hpp"
+#include "redpost/durable_write.hpp"
 #include "redpost/error.hpp"
 #include "redpost/krl_template.hpp"
 #include "redpost/text_file.hpp"
@@ -163,16 +161,6 @@ CalibrationPlanOptions plan_options(const PlanArgs& args, const Cell& cell) {
   return opt;
 }
 
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out)
-    throw Error(ErrorCode::io, fmt::format("cannot write '{}'", path));
-  out << text;
-  out.close();
-  if (!out)
-    throw Error(ErrorCode::io, fmt::format("error writing '{}': {}", path, std::strerror(errno)));
-}
-
 // The points of the plan: the meshes of eqs. 2-4, or with --validation N random points on the
 // table plane with random external joints (the paper's section 3.3).
 std::vector<CalibrationPoint> planned_points(const PlanArgs& args, const Cell& cell,
@@ -190,24 +178,6 @@ std::vector<CalibrationPoint> planned_points(const PlanArgs& args, const Cell& c
   v.z_max_mm = opt.z_max_mm;
   v.seed = args.validation_seed;
   return plan_validation(cell, v);
-}
-
-// Writes text to path through a temporary file renamed into place, so that an interrupted run
-// never leaves a half-written file under the final name.
-void write_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".part";
-  std::error_code ec;
-  try {
-    write_file(tmp, text);
-  } catch (...) {  // a full disk: no half-written .part left behind
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(ErrorCode::io, fmt::format("cannot write '{}'", path));
-  }
 }
 
 int run_plan(const PlanArgs& args) {
@@ -242,7 +212,7 @@ int run_plan(const PlanArgs& args) {
   const std::string path = (std::filesystem::path(args.out) /
                             (validation ? "validation_template.csv" : "readings_template.csv"))
                                .string();
-  write_file_atomic(path, format_readings_csv(cell, points, wopt));
+  write_text_file(path, format_readings_csv(cell, points, wopt));
   if (validation)
     fmt::print("{} validation points (random external joints, seed {}): {}\n", points.size(),
                args.validation_seed, path);
@@ -298,7 +268,7 @@ int run_simulate(const SimulateArgs& args) {
     throw Error(ErrorCode::bad_input, "--form must be 'pose' or 'joints'");
   wopt.external_joints = opt.external_joints;
   wopt.point_numbers = true;
-  write_file_atomic(args.plan.out, format_readings_csv(cell, points, wopt));
+  write_text_file(args.plan.out, format_readings_csv(cell, points, wopt));
   fmt::print("{} simulated readings (noise {} mm, seed {}): {}\n", points.size(), args.noise_mm,
              args.seed, args.plan.out);
   return kExitOk;
@@ -453,7 +423,7 @@ int run_calibrate(const CalibrateArgs& args) {
     line("after ", validation.after);
   }
   if (!args.json.empty())
-    write_file_atomic(args.json, result_json(r, opt, vpoints.empty() ? nullptr : &validation));
+    write_text_file(args.json, result_json(r, opt, vpoints.empty() ? nullptr : &validation));
   if (!args.report.empty()) {
     CalibrationReportInput in;
     in.cell_path = args.cell_path;
@@ -483,8 +453,8 @@ int run_calibrate(const CalibrateArgs& args) {
         "{:.4f} mm after, {} iterations; changes: {}",
         date, std::filesystem::path(args.readings).filename().string(), points.size(),
         r.rms_before_mm, r.rms_after_mm, r.iterations, changed);
-    write_file_atomic(args.out, calibrated_cell_xml(read_text_file(args.cell_path), args.cell_path,
-                                                    params, r.values, comment));
+    write_text_file(args.out, calibrated_cell_xml(read_text_file(args.cell_path), args.cell_path,
+                                                  params, r.values, comment));
     fmt::print("calibrated cell: {}\n", args.out);
   }
   return kExitOk;

@@ -11,9 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +23,7 @@
 #include "place_report.hpp"
 #include "redpost/controller_axes.hpp"
 #include "redpost/cutting_force.hpp"
+#include "redpost/durable_write.hpp"
 #include "redpost/error.hpp"
 #include "redpost/forward_kinematics.hpp"
 #include "redpost/krl_template.hpp"
@@ -61,32 +60,6 @@ std::string jnum(double v) {
 double theta_deg(const Placement& p) {
   const double q1 = std::sqrt(std::max(0.0, 1.0 - p.q4 * p.q4));
   return rad_to_deg(2.0 * std::atan2(p.q4, q1));
-}
-
-// A file written to NAME.tmp and renamed to NAME by commit().
-struct PendingText {
-  std::string path, text;
-};
-
-void commit_files(const std::vector<PendingText>& files) {
-  std::vector<std::string> temps;
-  for (const PendingText& f : files) {
-    const std::string temp = f.path + ".tmp";
-    std::ofstream out(temp, std::ios::binary);
-    out << f.text;
-    out.close();
-    if (!out) {
-      for (const std::string& t : temps)
-        std::remove(t.c_str());
-      std::remove(temp.c_str());
-      throw Error(ErrorCode::io, fmt::format("cannot write '{}'", temp));
-    }
-    temps.push_back(temp);
-  }
-  for (size_t k = 0; k < files.size(); ++k) {
-    if (std::rename(temps[k].c_str(), files[k].path.c_str()) != 0)
-      throw Error(ErrorCode::io, fmt::format("cannot rename '{}' into place", temps[k]));
-  }
 }
 
 std::string placement_csv(const PlacementProblem& pb, const PlacementStudy& st) {
@@ -307,7 +280,7 @@ int run_place(const PlaceArgs& args) {
   CostMap map_best, map_worst;
   problem.fill_cost_map(st.best.placement, map_best, false);
   problem.fill_cost_map(st.worst.placement, map_worst, false);
-  std::vector<PendingText> files = {
+  std::vector<TextOutput> files = {
       {(dir / "placement.csv").string(), placement_csv(problem, st)},
       {(dir / "plans.csv").string(), plans_csv(problem, st, map_best, map_worst)},
       {(dir / "cmap_best.csv").string(), cost_map_csv(problem, map_best, st.cases[0], st.cases[1])},
@@ -328,7 +301,7 @@ int run_place(const PlaceArgs& args) {
     files.push_back({args.report, placement_report_html(in)});
   }
   write_program(problem, st.best.placement, st.cases[0], q_path, templates, args.out);
-  commit_files(files);
+  write_text_files(files);
 
   const Placement& b = st.best.placement;
   const Placement& w = st.worst.placement;

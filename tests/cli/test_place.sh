@@ -43,7 +43,7 @@ for f in placement.csv plans.csv cmap_best.csv cmap_worst.csv convergence.csv \
          CARO2014_PLACEMENT.src CARO2014_PLACEMENT.dat; do
   [[ -s "$TMP/res/$f" ]] || fail "no $f"
 done
-ls "$TMP/res" | grep -q '\.tmp$' && fail "a temporary file was left behind"
+ls -A "$TMP/res" | grep -q "part~$" && fail "a temporary file was left behind"
 python3 - "$TMP/res.json" "$TMP/res/plans.csv" <<'PY' || fail "JSON report"
 import csv, json, sys
 j = json.load(open(sys.argv[1]))

@@ -356,6 +356,30 @@ TEST_CASE("krl_reader: errors name file and line", "[krl_reader]") {
     Error e = expect_error(src);
     CHECK(e.where().line == 3);
   }
+  // Both were undefined behaviour (a double beyond an int converted to int; a shifted-out hex
+  // literal) before the fuzz target under UBSan confirmed them (docs/reliability.md).
+  SECTION("Status beyond an int") {
+    const std::string src = t.write("A.src", "DEF A( )\nPTP {X 1, Y 2, Z 3, S 1e10}\nEND\n");
+    Error e = expect_error(src);
+    CHECK(e.code() == ErrorCode::bad_input);
+    CHECK(e.where().line == 2);
+    CHECK(e.message().find("S needs an integer") != std::string::npos);
+  }
+  SECTION("Turn as a hex literal wider than an int") {
+    const std::string src = t.write(
+        "A.src", "DEF A( )\nLIN {X 1}\nPTP {X 1, Y 2, Z 3, T 'HFFFFFFFFFFFFFFFFFFFFFFFF'}\nEND\n");
+    Error e = expect_error(src);
+    CHECK(e.where().line == 3);
+    CHECK(e.message().find("too large for T") != std::string::npos);
+  }
+  SECTION("the largest hex and binary literals that fit are read") {
+    const std::string src =
+        t.write("A.src", "DEF A( )\nPTP {X 1, Y 2, Z 3, S 'H7FFFFFFF', T 'B111111'}\nEND\n");
+    const KrlProgram p = read_krl_program(src);
+    REQUIRE(p.motions.size() == 1);
+    CHECK(p.motions[0].target.status == 0x7FFFFFFF);
+    CHECK(p.motions[0].target.turn == 63);
+  }
   SECTION("missing file") {
     try {
       read_krl_program((t.path / "NOPE.src").string());

@@ -34,14 +34,33 @@ bool is_nice(double step) {
 }
 
 // Numbers of an SVG attribute, e.g. data-px="x0 x1 y0 y1".
-std::vector<double> attr_numbers(const std::string& svg, const std::string& name) {
-  std::smatch m;
-  REQUIRE(std::regex_search(svg, m, std::regex(name + "=\"([^\"]*)\"")));
+// The text between the first `open` in `svg` and the next double quote. Found with find rather
+// than std::regex: libstdc++ matches [^"]* recursively, a stack frame per character, which
+// overflows the stack on a long path under AddressSanitizer.
+std::string quoted_after(const std::string& svg, const std::string& open) {
+  const std::size_t start = svg.find(open);
+  REQUIRE(start != std::string::npos);
+  const std::size_t from = start + open.size();
+  const std::size_t end = svg.find('"', from);
+  REQUIRE(end != std::string::npos);
+  return svg.substr(from, end - from);
+}
+
+// The numbers in a text, every other character (SVG path commands, commas) read as a blank.
+std::vector<double> numbers_in(std::string text) {
+  for (char& c : text) {
+    if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '.' || c == 'e'))
+      c = ' ';
+  }
   std::vector<double> v;
-  std::istringstream in(m[1].str());
+  std::istringstream in(text);
   for (double x; in >> x;)
     v.push_back(x);
   return v;
+}
+
+std::vector<double> attr_numbers(const std::string& svg, const std::string& name) {
+  return numbers_in(quoted_after(svg, name + "=\""));
 }
 
 }  // namespace
@@ -272,16 +291,16 @@ TEST_CASE("report: a one-sample peak in a long line survives into the SVG", "[re
     p.series.push_back(s);
     const std::string svg = render_svg(p);
     const std::vector<double> px = attr_numbers(svg, "data-px");  // x0 x1 y0 y1
-    std::smatch m;
-    REQUIRE(std::regex_search(svg, m, std::regex("<path d=\"([^\"]*)\" stroke=\"#123456\"")));
-    const std::string d = m[1].str();
+    // The series' path: the last d="..." before its stroke colour.
+    const std::size_t stroke = svg.find("\" stroke=\"#123456\"");
+    REQUIRE(stroke != std::string::npos);
+    const std::size_t d_at = svg.rfind("<path d=\"", stroke);
+    REQUIRE(d_at != std::string::npos);
+    const std::string d = quoted_after(svg.substr(d_at, stroke - d_at + 1), "<path d=\"");
     // The plot is y = 0 except at the peak, which must reach the top of the plot area (y0).
-    std::regex num("-?[0-9]+\\.[0-9]");
-    std::vector<double> v;
-    for (auto it = std::sregex_iterator(d.begin(), d.end(), num); it != std::sregex_iterator();
-         ++it) {
-      v.push_back(std::stod(it->str()));
-    }
+    const std::vector<double> v = numbers_in(d);
+    REQUIRE(v.size() >= 4);
+    REQUIRE(v.size() % 2 == 0);
     double top = 1e9;
     for (std::size_t i = 1; i < v.size(); i += 2)
       top = std::min(top, v[i]);
