@@ -86,6 +86,12 @@ std::string errno_text() {
   return std::strerror(errno);
 }
 
+// A failed write of a program file (nothing gets a final name: see finish()).
+std::string write_failure_text() {
+  return "cannot write: " + errno_text() +
+         "; check the free space and the file size limit (ulimit -f); no program was written";
+}
+
 }  // namespace
 
 struct KrlWriter::Impl {
@@ -323,8 +329,8 @@ struct KrlWriter::Impl {
     }
     converted += kEol;
     if (std::fwrite(converted.data(), 1, converted.size(), f) != converted.size()) {
-      throw Error(ErrorCode::io, "cannot write: " + errno_text(),
-                  SourceLocation{files[file_index].temp, 0, 0});
+      throw Error(ErrorCode::io, write_failure_text(),
+                  SourceLocation{files[file_index].final_path, 0, 0});
     }
   }
 
@@ -337,7 +343,7 @@ struct KrlWriter::Impl {
     f = std::fopen(file.temp.c_str(), "wb");
     if (!f) {
       throw Error(ErrorCode::io, "cannot create a file in the output directory: " + errno_text(),
-                  SourceLocation{file.temp, 0, 0});
+                  SourceLocation{file.final_path, 0, 0});
     }
     std::setvbuf(f, nullptr, _IOFBF, 1 << 16);
     files.push_back(std::move(file));
@@ -352,7 +358,7 @@ struct KrlWriter::Impl {
     const bool failed = std::ferror(file) != 0;
     if (!failed) {
       try {
-        flush_to_disk(file, files[file_index].temp);
+        flush_to_disk(file, files[file_index].final_path);
       } catch (...) {
         std::fclose(file);
         throw;
@@ -360,8 +366,8 @@ struct KrlWriter::Impl {
     }
     const int rc = std::fclose(file);
     if (failed || rc != 0) {
-      throw Error(ErrorCode::io, "cannot write: " + errno_text(),
-                  SourceLocation{files[file_index].temp, 0, 0});
+      throw Error(ErrorCode::io, write_failure_text(),
+                  SourceLocation{files[file_index].final_path, 0, 0});
     }
   }
 
@@ -384,8 +390,8 @@ struct KrlWriter::Impl {
       converted.assign(line);
       converted += kEol;
       if (std::fwrite(converted.data(), 1, converted.size(), f) != converted.size()) {
-        throw Error(ErrorCode::io, "cannot write: " + errno_text(),
-                    SourceLocation{files[file_index].temp, 0, 0});
+        throw Error(ErrorCode::io, write_failure_text(),
+                    SourceLocation{files[file_index].final_path, 0, 0});
       }
     }
     return sk.size();
