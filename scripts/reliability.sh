@@ -3,7 +3,7 @@
 #   1. build-asan/: every target with AddressSanitizer + UndefinedBehaviorSanitizer, and the
 #      whole CTest suite on it (the Tcl package test through tests/sanitize/tclsh_asan.sh);
 #   2. build-tsan/: the C ABI tests with ThreadSanitizer (two sessions on two threads, the
-#      per-thread last error);
+#      per-thread last error), built at low priority while step 1's suite runs;
 #   3. the C host example under valgrind memcheck, against the golden output, on the plain
 #      Release build (build/, or $REDPOST_PLAIN_BUILD_DIR).
 # Prints a summary with timings; exits 1 if any step failed. Needs what scripts/setup.sh
@@ -13,9 +13,10 @@ cd "$(dirname "$0")/.."
 
 jobs=$(nproc 2>/dev/null || echo 2)
 plain=${REDPOST_PLAIN_BUILD_DIR:-build}
-# -O1: fast enough to run the suite, while keeping stack traces readable. NDEBUG as in Release,
-# so the tests see the code CI ships.
-opt="-O1 -g -DNDEBUG"
+# -O1: fast enough to run the suite, while keeping stack traces readable. -g1: line tables for
+# the reports' stack traces, without full debug information (a quicker build). NDEBUG as in
+# Release, so the tests see the code CI ships.
+opt="-O1 -g1 -DNDEBUG"
 sanitizer_build=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$opt"
                  "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$opt" -DREDPOST_BUILD_BENCHMARKS=OFF)
 
@@ -57,6 +58,21 @@ tsan_build() {
   cmake -S . -B build-tsan "${sanitizer_build[@]}" -DREDPOST_SANITIZE=thread >/dev/null &&
     cmake --build build-tsan -j "$jobs" --target redpost_abi_tests
 }
+# The TSan build runs at low priority beside the ASan suite, on the core its long single tests
+# leave idle; tsan_wait collects it.
+tsan_build_start() {
+  tsan_log=$(mktemp)
+  nice -n 10 bash -c "$(declare -p sanitizer_build jobs); $(declare -f tsan_build); tsan_build" \
+    >"$tsan_log" 2>&1 &
+  tsan_pid=$!
+}
+tsan_wait() {
+  local rc=0
+  wait "$tsan_pid" || rc=$?
+  tail -n 20 "$tsan_log"
+  rm -f "$tsan_log"
+  return $rc
+}
 tsan_run() {
   # Every ABI test case: the thread ones are the point, the rest are cheap.
   build-tsan/tests/redpost_abi_tests
@@ -83,8 +99,9 @@ memcheck_c_host() {
 
 total_start=$SECONDS
 step "asan+ubsan: build (build-asan)" asan_build
+tsan_build_start
 step "asan+ubsan: ctest (whole suite)" asan_ctest
-step "tsan: build (build-tsan, abi)" tsan_build
+step "tsan: build (build-tsan, abi), rest" tsan_wait
 step "tsan: ABI tests" tsan_run
 step "valgrind memcheck: C host" memcheck_c_host
 

@@ -109,49 +109,20 @@ Worst check_against_finite_differences(const Cell& cell, std::uint64_t seed) {
 // Modified DH, prismatic joints in both conventions, fixed frames, base and tool: the branches
 // the shipped cells leave out.
 Cell hand_built_cell() {
-  using redpost::deg_to_rad;
   using redpost::DhConvention;
-  Cell cell;
-  cell.name = "jacobian_hand_built";
-  cell.T_B_0 = redpost::frame_from_xyzabc(-200.0, 50.0, 400.0, {-35.0, 15.0, 80.0});
-  cell.T_last_tcp = redpost::frame_from_xyzabc(0.0, 40.0, 220.0, {10.0, -30.0, 0.0});
-  struct Spec {
-    JointType type;
-    DhConvention convention;
-    double alpha_deg, a, theta_deg, d;
-    double lower, upper;
-  };
-  const Spec specs[] = {
-      {JointType::revolute, DhConvention::modified, 0, 0, 10, 300, -3, 3},
-      {JointType::prismatic, DhConvention::modified, 90, 150, 30, 20, -500, 500},
-      {JointType::revolute, DhConvention::standard, 60, 700, -45, 0, -3, 3},
-      {JointType::prismatic, DhConvention::standard, -90, 0, 90, 100, 0, 800},
-      {JointType::revolute, DhConvention::modified, 90, 50, 0, 600, -3, 3},
-      {JointType::revolute, DhConvention::standard, -90, 0, 20, 0, -3, 3},
-      {JointType::virtual_spin, DhConvention::modified, 20, 0, 0, 120, -3.2, 3.2},
-  };
-  int i = 0;
-  for (const Spec& s : specs) {
-    redpost::Joint& j = cell.joints[static_cast<size_t>(i)];
-    j.name = "j" + std::to_string(i + 1);
-    j.type = s.type;
-    j.convention = s.convention;
-    j.alpha_rad = deg_to_rad(s.alpha_deg);
-    j.a_mm = s.a;
-    j.theta_rad = deg_to_rad(s.theta_deg);
-    j.d_mm = s.d;
-    j.lower = s.lower;
-    j.upper = s.upper;
-    j.home = 0.5 * (s.lower + s.upper);
-    ++i;
-  }
-  cell.joint_count = i;
-  cell.joints[2].T_prev_link = redpost::frame_from_xyzabc(30.0, -20.0, 10.0, {15.0, 25.0, 35.0});
-  cell.joints[2].has_fixed_before = true;
-  cell.joints[4].T_prev_link = redpost::frame_from_xyzabc(0.0, 0.0, 90.0, {90.0, 0.0, 0.0});
-  cell.joints[4].has_fixed_before = true;
-  redpost::finalize_cell(cell);
-  return cell;
+  return redpost::test::hand_built_cell(
+      "jacobian_hand_built", redpost::frame_from_xyzabc(-200.0, 50.0, 400.0, {-35.0, 15.0, 80.0}),
+      redpost::frame_from_xyzabc(0.0, 40.0, 220.0, {10.0, -30.0, 0.0}),
+      {
+          {JointType::revolute, DhConvention::modified, 0, 0, 10, 300, -3, 3},
+          {JointType::prismatic, DhConvention::modified, 90, 150, 30, 20, -500, 500},
+          {JointType::revolute, DhConvention::standard, 60, 700, -45, 0, -3, 3},
+          {JointType::prismatic, DhConvention::standard, -90, 0, 90, 100, 0, 800},
+          {JointType::revolute, DhConvention::modified, 90, 50, 0, 600, -3, 3},
+          {JointType::revolute, DhConvention::standard, -90, 0, 20, 0, -3, 3},
+          {JointType::virtual_spin, DhConvention::modified, 20, 0, 0, 120, -3.2, 3.2},
+      },
+      {{2, 30.0, -20.0, 10.0, 15.0, 25.0, 35.0}, {4, 0.0, 0.0, 90.0, 90.0, 0.0, 0.0}});
 }
 
 // A random 6 x n matrix with entries in [-1, 1].

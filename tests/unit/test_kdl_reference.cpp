@@ -123,50 +123,21 @@ JacobianError compare_jacobian(const Cell& cell, KdlChainLayout layout, std::uin
 // A cell that the shipped ones do not cover: modified DH with a prismatic joint, non-zero
 // theta offsets, fixed frames between joints, a base and a tool frame, and mixed conventions.
 Cell hand_built_cell() {
-  using redpost::deg_to_rad;
   using redpost::DhConvention;
   using redpost::JointType;
-  Cell cell;
-  cell.name = "kdl_hand_built";
-  cell.T_B_0 = redpost::frame_from_xyzabc(120.0, -40.0, 300.0, {30.0, -10.0, 5.0});
-  cell.T_last_tcp = redpost::frame_from_xyzabc(5.0, 10.0, 150.0, {0.0, 20.0, 45.0});
-  struct Spec {
-    JointType type;
-    DhConvention convention;
-    double alpha_deg, a, theta_deg, d;
-    double lower, upper;
-  };
-  const Spec specs[] = {
-      {JointType::prismatic, DhConvention::modified, 30, 100, 15, 50, -400, 900},
-      {JointType::revolute, DhConvention::modified, 90, 250, -20, 80, -3, 3},
-      {JointType::revolute, DhConvention::standard, -90, 400, 10, -60, -3, 3},
-      {JointType::prismatic, DhConvention::standard, 45, 30, 25, 10, 0, 500},
-      {JointType::revolute, DhConvention::modified, -60, 0, 0, 200, -3, 3},
-      {JointType::virtual_spin, DhConvention::standard, 0, 0, 5, -90, -3.2, 3.2},
-  };
-  int i = 0;
-  for (const Spec& s : specs) {
-    redpost::Joint& j = cell.joints[static_cast<size_t>(i)];
-    j.name = "j" + std::to_string(i + 1);
-    j.type = s.type;
-    j.convention = s.convention;
-    j.alpha_rad = deg_to_rad(s.alpha_deg);
-    j.a_mm = s.a;
-    j.theta_rad = deg_to_rad(s.theta_deg);
-    j.d_mm = s.d;
-    j.lower = s.lower;
-    j.upper = s.upper;
-    j.home = 0.5 * (s.lower + s.upper);
-    ++i;
-  }
-  cell.joint_count = i;
-  // Fixed frames before a prismatic and before a modified-DH joint.
-  cell.joints[1].T_prev_link = redpost::frame_from_xyzabc(10.0, 20.0, 30.0, {40.0, 50.0, 60.0});
-  cell.joints[1].has_fixed_before = true;
-  cell.joints[3].T_prev_link = redpost::frame_from_xyzabc(-15.0, 0.0, 70.0, {0.0, 90.0, 0.0});
-  cell.joints[3].has_fixed_before = true;
-  redpost::finalize_cell(cell);
-  return cell;
+  return redpost::test::hand_built_cell(
+      "kdl_hand_built", redpost::frame_from_xyzabc(120.0, -40.0, 300.0, {30.0, -10.0, 5.0}),
+      redpost::frame_from_xyzabc(5.0, 10.0, 150.0, {0.0, 20.0, 45.0}),
+      {
+          {JointType::prismatic, DhConvention::modified, 30, 100, 15, 50, -400, 900},
+          {JointType::revolute, DhConvention::modified, 90, 250, -20, 80, -3, 3},
+          {JointType::revolute, DhConvention::standard, -90, 400, 10, -60, -3, 3},
+          {JointType::prismatic, DhConvention::standard, 45, 30, 25, 10, 0, 500},
+          {JointType::revolute, DhConvention::modified, -60, 0, 0, 200, -3, 3},
+          {JointType::virtual_spin, DhConvention::standard, 0, 0, 5, -90, -3.2, 3.2},
+      },
+      // Fixed frames before a prismatic and before a modified-DH joint.
+      {{1, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0}, {3, -15.0, 0.0, 70.0, 0.0, 90.0, 0.0}});
 }
 
 }  // namespace
