@@ -5,7 +5,8 @@
 #
 # Builds the targets of tests/fuzz/ with clang (-fsanitize=fuzzer,address,undefined) into
 # build-fuzz/, then runs each one for SECONDS_PER_TARGET seconds from its seed corpus
-# (tests/fuzz/corpus/<target>/ and tests/fuzz/regression/<target>/). New corpus entries go to a
+# (tests/fuzz/corpus/<target>/ and tests/fuzz/regression/<target>/) with its dictionary
+# (tests/fuzz/dict/<target>.dict). New corpus entries go to a
 # scratch directory, never into the repository; crash, leak and timeout inputs are kept in
 # $FUZZ_OUT (default build-fuzz/out/<target>/) for a regression file. Prints the executions per
 # target and exits non-zero if any target found a crash, a leak, a hang (-timeout) or ran out
@@ -51,9 +52,13 @@ fuzz_one() {
   local log=$work/fuzz.log
   local seeds=("$root/tests/fuzz/corpus/$t")
   [ -d "$root/tests/fuzz/regression/$t" ] && seeds+=("$root/tests/fuzz/regression/$t")
+  # The target's dictionary (its keywords, element names, placeholders) lets mutations reach
+  # the parsers' deeper branches sooner than byte flips alone.
+  local dict=()
+  [ -f "$root/tests/fuzz/dict/$t.dict" ] && dict=("-dict=$root/tests/fuzz/dict/$t.dict")
   # ASan's leak check is on by default under libFuzzer; UBSan aborts (built -fno-sanitize-recover).
   ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} \
-    "$build/fuzz_$t" "$work/corpus" "${seeds[@]}" \
+    "$build/fuzz_$t" "$work/corpus" "${seeds[@]}" "${dict[@]}" \
     -max_total_time="$seconds" -max_len="$(max_len "$t")" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$work/artifacts/" >"$log" 2>&1 || rc=$?
   local execs corpus result=ok
