@@ -2,12 +2,11 @@
 #include "calibrate_report.hpp"
 
 #include <cmath>
-#include <exception>
 #include <filesystem>
 
 #include <fmt/format.h>
 
-#include "redpost/error.hpp"
+#include "redpost/durable_write.hpp"
 #include "redpost/report/html_report.hpp"
 
 namespace redpost::cli {
@@ -179,11 +178,7 @@ void write_calibration_report(const std::string& path, const CalibrationReportIn
     html.add_plot(std::move(h));
   }
 
-  try {
-    html.write(path);
-  } catch (const std::exception& e) {
-    throw Error(ErrorCode::io, fmt::format("cannot write the report: {}", e.what()));
-  }
+  write_text_file(path, html.html());
 }
 
 }  // namespace redpost::cli

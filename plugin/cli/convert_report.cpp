@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "redpost/durable_write.hpp"
 #include "redpost/error.hpp"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/plot_scale.hpp"
@@ -406,11 +407,11 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
       view.height = 400;
       r.add_plot(std::move(view));
     }
-    r.write(path);
+    write_text_file(path, r.html());
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    // The report library names the file for write errors; the location names it for the rest.
+    // Write errors are Errors naming the file already; the location names it for the rest.
     throw Error(ErrorCode::io, std::string("report: ") + e.what(), SourceLocation{path, 0, 0});
   }
 }

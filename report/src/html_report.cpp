@@ -6,11 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <stdexcept>
 #include <utility>
 
 namespace redpost::report {
@@ -188,25 +184,6 @@ std::string HtmlReport::html() const {
       "<footer>Written by redpost. Hover over a plot for values; click it to enlarge.</footer>\n";
   out += fmt::format("</main>\n<script>{}</script>\n</body>\n</html>\n", kScript);
   return out;
-}
-
-void HtmlReport::write(const std::string& path) const {
-  const std::string doc = html();
-  const std::string tmp = path + ".tmp";
-  std::FILE* fp = std::fopen(tmp.c_str(), "wb");
-  if (fp == nullptr) {
-    throw std::runtime_error(
-        fmt::format("cannot write the report {}: {}; check that the folder "
-                    "exists and is writable",
-                    tmp, std::strerror(errno)));
-  }
-  const bool ok = std::fwrite(doc.data(), 1, doc.size(), fp) == doc.size();
-  const bool closed = std::fclose(fp) == 0;
-  if (!ok || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot write the report {}: {}", path, std::strerror(e)));
-  }
 }
 
 }  // namespace redpost::report

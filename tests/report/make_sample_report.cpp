@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "redpost/durable_write.hpp"
 #include "redpost/report/html_report.hpp"
 
 using namespace redpost::report;
@@ -272,7 +273,7 @@ int main(int argc, char** argv) {
     convert_section(r);
     calibrate_section(r);
     place_section(r);
-    r.write(argv[1]);
+    redpost::write_text_file(argv[1], r.html());
     std::printf("%d\n", r.plot_count());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "make_sample_report: %s\n", e.what());

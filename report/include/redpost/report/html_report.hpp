@@ -59,11 +59,10 @@ class HtmlReport {
 
   int plot_count() const { return plots_; }
 
-  // The whole document.
+  // The whole document. The host writes it (the CLI through redpost::write_text_file: a
+  // temporary, fsync and a rename, so a reader never sees half a report); the report library
+  // draws and never touches the disk.
   std::string html() const;
-  // Writes html() to path through path + ".tmp" and a rename, so that a reader never sees half
-  // a report. Throws std::runtime_error naming the path when it cannot be written.
-  void write(const std::string& path) const;
 
  private:
   std::string next_id();
