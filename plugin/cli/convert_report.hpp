@@ -33,8 +33,8 @@ class ConvertReport {
   ConvertReport(const ConvertReport&) = delete;
   ConvertReport& operator=(const ConvertReport&) = delete;
 
-  // After a successful rp_close: writes the report to path atomically (through path.tmp).
-  // Throws Error(io) naming the path when it cannot be written.
+  // After a successful rp_close: writes the report to path atomically and durably
+  // (write_text_file). Throws Error(io) naming the path when it cannot be written.
   void write(const std::string& path, const rp_session* session,
              const ConvertReportContext& context) const;
 
