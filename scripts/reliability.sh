@@ -46,7 +46,7 @@ asan_ctest() {
   # The consumer test (cmake.find_package_consumer) links the installed, instrumented
   # libredpost_core.a into a fresh project: LDFLAGS gives that link the sanitizer runtimes.
   # REDPOST_TEST_LIGHT: the placement tests (~40 times slower here) search less
-  # (tests/unit/test_placement.cpp, tests/cli/test_place.sh).
+  # (tests/unit/machining/test_placement.cpp, tests/cli/test_place.sh).
   # REDPOST_SANITIZER: tests that bound memory use (peak RSS) can tell ASan's shadow memory and
   # quarantine from a real excess.
   # REDPOST_TEST_LIGHT also makes the SIGKILL test kill a smaller conversion fewer times.

@@ -21,14 +21,14 @@
 #include "calibrate_report.hpp"
 #include "commands.hpp"
 #include "definitions.hpp"
-#include "redpost/calibration.hpp"
-#include "redpost/calibration_csv.hpp"
-#include "redpost/calibration_program.hpp"
-#include "redpost/cell_xml.hpp"
-#include "redpost/durable_write.hpp"
-#include "redpost/error.hpp"
-#include "redpost/krl_template.hpp"
-#include "redpost/text_file.hpp"
+#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/program.hpp"
+#include "redpost/calibration/readings_csv.hpp"
+#include "redpost/io/durable_write.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/krl/template.hpp"
 
 namespace redpost::cli {
 

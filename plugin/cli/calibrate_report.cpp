@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "redpost/durable_write.hpp"
+#include "redpost/io/durable_write.hpp"
 #include "redpost/report/html_report.hpp"
 
 namespace redpost::cli {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "redpost/calibration.hpp"
+#include "redpost/calibration/calibration.hpp"
 
 namespace redpost::cli {
 

@@ -8,9 +8,9 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
-#include "redpost/cell_xml.hpp"
-#include "redpost/error.hpp"
-#include "redpost/krl_check.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/krl/check.hpp"
 
 namespace redpost::cli {
 

@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "redpost/durable_write.hpp"
-#include "redpost/error.hpp"
+#include "redpost/io/durable_write.hpp"
+#include "redpost/io/error.hpp"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/plot_scale.hpp"
 

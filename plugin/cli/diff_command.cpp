@@ -5,8 +5,8 @@
 #include <string>
 
 #include "commands.hpp"
-#include "redpost/error.hpp"
-#include "redpost/krl_diff.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/krl/diff.hpp"
 
 namespace redpost::cli {
 

@@ -8,11 +8,11 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
-#include "redpost/cell_xml.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/error.hpp"
-#include "redpost/forward_kinematics.hpp"
-#include "redpost/jacobian.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/jacobian.hpp"
 
 namespace redpost::cli {
 

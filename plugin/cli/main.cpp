@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
-#include "redpost/error.hpp"
+#include "redpost/io/error.hpp"
 
 int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) must fail a write with EFBIG, as a full disk fails it with

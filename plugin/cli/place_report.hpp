@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "redpost/placement.hpp"
+#include "redpost/machining/placement.hpp"
 
 namespace redpost::cli {
 

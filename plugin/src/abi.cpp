@@ -22,14 +22,14 @@
 #include <fmt/format.h>
 
 #include "redpost.h"
-#include "redpost/cell_xml.hpp"
-#include "redpost/cl_reader.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/error.hpp"
-#include "redpost/krl_template.hpp"
-#include "redpost/kuka_abc.hpp"
-#include "redpost/post_session.hpp"
-#include "redpost/text_file.hpp"
+#include "redpost/cl/reader.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/kuka_abc.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/post/session.hpp"
 
 namespace {
 

@@ -2,8 +2,8 @@
 // parameters of Andres eq. 5, sigma = 0.035 mm. The budget is 50 ms for the 108-point case.
 #include <benchmark/benchmark.h>
 
-#include "redpost/calibration.hpp"
-#include "redpost/calibration_csv.hpp"
+#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/readings_csv.hpp"
 #include "test_support.hpp"
 
 using namespace redpost;

@@ -22,10 +22,10 @@
 
 #include "allocation_counter.hpp"
 #include "kdl_chain.hpp"
-#include "redpost/arm_ik.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/forward_kinematics.hpp"
-#include "redpost/jacobian.hpp"
+#include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/jacobian.hpp"
 #include "test_support.hpp"
 
 namespace {

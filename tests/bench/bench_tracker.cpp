@@ -16,7 +16,7 @@
 #include "allocation_counter.hpp"
 #include "kdl_chain.hpp"
 #include "paths.hpp"
-#include "redpost/tracker.hpp"
+#include "redpost/redundancy/tracker.hpp"
 #include "test_support.hpp"
 
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "redpost/cell_xml.hpp"
-#include "redpost/forward_kinematics.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
 
 int main() {
   const redpost::Cell cell = redpost::load_cell(REDPOST_CELL);

@@ -1,8 +1,8 @@
 // Fuzz target: the calibration readings CSV (calibration_csv.hpp), read against the Andres 2011
 // cell (both forms: commanded pose with q1,q2, and all nine joints).
-#include "redpost/calibration_csv.hpp"
 #include "fuzz_support.hpp"
-#include "redpost/cell_xml.hpp"
+#include "redpost/calibration/readings_csv.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const redpost::Cell cell = redpost::load_cell(

@@ -1,9 +1,9 @@
 // Fuzz target: the cell XML loader (cell_xml.hpp). A cell it accepts must also be usable: its
 // home posture goes through forward kinematics and the controller-axis mapping.
-#include "redpost/cell_xml.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
 #include "fuzz_support.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/forward_kinematics.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return redpost::fuzz::run_one([&] {

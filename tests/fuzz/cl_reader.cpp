@@ -2,7 +2,7 @@
 #include <sstream>
 
 #include "fuzz_support.hpp"
-#include "redpost/cl_reader.hpp"
+#include "redpost/cl/reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return redpost::fuzz::run_one([&] {

@@ -4,10 +4,10 @@
 #include <sstream>
 
 #include "fuzz_support.hpp"
-#include "redpost/cell_xml.hpp"
-#include "redpost/cl_reader.hpp"
-#include "redpost/krl_template.hpp"
-#include "redpost/post_session.hpp"
+#include "redpost/cl/reader.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/post/session.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const redpost::Cell cell = redpost::load_cell(

@@ -16,7 +16,7 @@
 #include <string>
 #include <system_error>
 
-#include "redpost/error.hpp"
+#include "redpost/io/error.hpp"
 
 namespace redpost::fuzz {
 

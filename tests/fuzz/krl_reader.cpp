@@ -8,7 +8,7 @@
 #include <map>
 
 #include "fuzz_support.hpp"
-#include "redpost/krl_reader.hpp"
+#include "redpost/krl/reader.hpp"
 
 namespace {
 

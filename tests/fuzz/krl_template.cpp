@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "fuzz_support.hpp"
-#include "redpost/krl_template.hpp"
-#include "redpost/krl_writer.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/krl/writer.hpp"
 
 namespace {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "redpost/durable_write.hpp"
+#include "redpost/io/durable_write.hpp"
 #include "redpost/report/html_report.hpp"
 
 using namespace redpost::report;

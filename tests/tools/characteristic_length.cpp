@@ -10,10 +10,10 @@
 #include <cstdlib>
 #include <random>
 
-#include "redpost/cell_xml.hpp"
-#include "redpost/conditioning.hpp"
-#include "redpost/controller_axes.hpp"
-#include "redpost/jacobian.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/kinematics/conditioning.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/jacobian.hpp"
 
 using namespace redpost;
 

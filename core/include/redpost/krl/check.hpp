@@ -1,0 +1,51 @@
+// A static check of KRL programs (`redpost check`, docs/krl-diff.md).
+//
+// From the raw text of each .src/.dat: matched DEF/END (DEFFCT/ENDFCT, DEFDAT/ENDDAT) and
+// FOLD/ENDFOLD, declarations before statements, identifiers of at most 24 characters, named
+// motion targets declared in the .src or its .dat, $VEL.CP in (0, 2] m/s and the file size.
+// From the program read with read_krl_program: S and T on the first Cartesian PTP and, with a
+// cell, axis values A1..A6/E1..E6 within the limits of the joints mapped to them.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "redpost/kinematics/cell.hpp"
+#include "redpost/krl/reader.hpp"
+
+namespace redpost {
+
+struct KrlFinding {
+  std::string file;
+  int line = 0;
+  std::string message;
+};
+
+inline constexpr size_t kKrlDefaultMaxBytes = 5u * 1000u * 1000u;  // 5 MB (docs/krl-diff.md)
+inline constexpr int kKrlMaxIdentifierLength = 24;
+inline constexpr double kKrlMaxVelCp = 2.0;  // m/s
+
+struct KrlCheckOptions {
+  const Cell* cell = nullptr;  // limits of A1..A6/E1..E6; nullptr: not checked
+  size_t max_bytes = kKrlDefaultMaxBytes;
+};
+
+// Checks a .src (and the files it calls, and the .dat files beside them) or every .src/.dat of
+// a directory. Findings sorted by file and line. Throws Error(io) when a file cannot be read;
+// a program the reader rejects is reported as a finding.
+std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions& options);
+
+// The text checks of one file (`dat_declared`: names declared in the matching .dat).
+std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
+                                       const std::vector<std::string>& dat_declared,
+                                       const KrlCheckOptions& options);
+
+// Names declared (DECL ... NAME, NAME2 = ...) in a .src or .dat text, upper case.
+std::vector<std::string> krl_declared_names(const std::string& text);
+
+// The checks on the motions of a program read: S/T on the first Cartesian PTP, cell limits.
+std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
+                                          const KrlCheckOptions& options);
+
+}  // namespace redpost

@@ -1,0 +1,112 @@
+// Comparing two KRL programs motion by motion (`redpost diff`, docs/krl-diff.md).
+//
+// The motions of both programs (read with read_krl_program, so split programs are followed
+// through their calls) are aligned, then each aligned pair is compared: position (mm,
+// Euclidean), orientation (the angle of R_A^T R_B, so equivalent A, B, C forms compare equal),
+// arm axes A1..A6 and external axes E1..E6 (absolute difference), Status and Turn (exact, where
+// both have them) and the motion keyword. Motions of one side that have no partner are
+// insertions (only in B) or removals (only in A).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "redpost/krl/reader.hpp"
+
+namespace redpost {
+
+struct KrlDiffOptions {
+  double pos_tol_mm = 0.001;   // a deviation counts when it is strictly larger than the tolerance
+  double ang_tol_deg = 0.001;  // orientation
+  double axis_tol = 0.001;     // A1..A6, E1..E6 in controller units (deg or mm)
+  size_t max_shown = 20;       // differences kept in KrlDiffResult::differences
+};
+
+// The quantities compared, in report order.
+enum class KrlQuantity : int {
+  position,
+  orientation,
+  aux_position,  // CIRC auxiliary point
+  A1,
+  A2,
+  A3,
+  A4,
+  A5,
+  A6,
+  E1,
+  E2,
+  E3,
+  E4,
+  E5,
+  E6,
+  status,
+  turn,
+  keyword,
+  target_kind,  // Cartesian target on one side, axis target on the other
+  count_
+};
+inline constexpr int kKrlQuantityCount = static_cast<int>(KrlQuantity::count_);
+const char* krl_quantity_name(KrlQuantity q);  // "position", "A1", "status", ...
+const char* krl_quantity_unit(KrlQuantity q);  // "mm", "deg", "" (exact quantities)
+
+struct KrlDeviation {
+  KrlQuantity quantity = KrlQuantity::position;
+  double value = 0.0;  // mm, deg or axis units; 1 for an exact quantity that differs
+  std::string detail;  // "A 'B110' B 'B010'" for exact quantities, else ""
+};
+
+struct KrlDifference {
+  enum class Kind { changed, inserted, removed };
+  Kind kind = Kind::changed;
+  // Where on each side. For `inserted` only B is set, for `removed` only A; `count` motions
+  // from there on (a run of consecutive insertions or removals is one difference).
+  std::string file_a, file_b;
+  int line_a = 0, line_b = 0;
+  int last_line_a = 0, last_line_b = 0;  // last motion of the run (same file assumed)
+  size_t count = 1;
+  std::string keyword_a, keyword_b;
+  std::vector<KrlDeviation> deviations;  // `changed`: the quantities over tolerance
+};
+
+struct KrlQuantityStats {
+  size_t compared = 0;
+  size_t over_tolerance = 0;
+  double max = 0.0;
+  double sum = 0.0;
+  double mean() const { return compared == 0 ? 0.0 : sum / static_cast<double>(compared); }
+};
+
+struct KrlDiffResult {
+  bool equal = true;
+  size_t motions_a = 0, motions_b = 0;
+  size_t compared = 0;          // aligned pairs compared
+  size_t changed = 0;           // pairs with at least one quantity over tolerance
+  size_t inserted = 0;          // motions only in B
+  size_t removed = 0;           // motions only in A
+  size_t difference_count = 0;  // all differences (changed pairs + insertion/removal runs)
+  bool aligned_by_cl_line = false;
+  std::vector<KrlDifference> differences;  // the first max_shown, in program order
+  std::array<KrlQuantityStats, kKrlQuantityCount> statistics{};
+  // Directory comparison: programs found on one side only ("only in A: FOO.src").
+  std::vector<std::string> unmatched;
+};
+
+// Compares two programs already read.
+KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
+                                const KrlDiffOptions& options);
+
+// Compares two .src files, or two directories (their main programs matched by file name,
+// case-insensitively). Throws Error (io, bad_input) as read_krl_program does.
+KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_b,
+                             const KrlDiffOptions& options);
+
+// The main programs of a directory: every .src that no other .src in it calls, sorted by name.
+std::vector<std::string> krl_main_programs(const std::string& directory);
+
+// The report as text (first differences, then statistics) and as JSON.
+std::string format_krl_diff_text(const KrlDiffResult& result, const KrlDiffOptions& options);
+std::string format_krl_diff_json(const KrlDiffResult& result, const KrlDiffOptions& options);
+
+}  // namespace redpost

@@ -1,0 +1,131 @@
+// A postprocessing session: CL events in, a KRL program out.
+//
+// Every front end (the CL file reader, the NX event handlers through the C ABI, other C hosts)
+// drives the same session, so the same toolpath gives the same bytes whichever way it came in.
+// The session streams: each move is tracked (Andres Algorithm 1, see tracker.hpp) and written at
+// once; memory does not grow with the number of poses.
+//
+// Failures throw Error with the CL source and line ("part.apt:1234: pose 5012 unreachable ...")
+// and leave no output that looks finished (the writer's temporary files are removed).
+#pragma once
+
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "redpost/cl/event.hpp"
+#include "redpost/kinematics/cell.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/krl/writer.hpp"
+#include "redpost/redundancy/tracker.hpp"
+
+namespace redpost {
+
+// One motion as it is written, for a host that watches the run (the report of `redpost convert`).
+// The pointers are valid during the call only; nothing is allocated to make a sample.
+struct MotionSample {
+  long index = 0;  // 1, 2, ... in the order written (the joints CSV's "pose" column)
+  KrlMotionKind kind = KrlMotionKind::lin;
+  int cl_line = 0;
+  const JointVector* q = nullptr;    // DH units (rad, mm), chain order, the virtual joint included
+  const AxisValues* axes = nullptr;  // controller values A1..A6, E1..E6 (deg, mm); NaN: unmapped
+  double inv_condition = 0.0;        // 1/kappa_F of the arm at q
+  int iterations = 0;                // of the solve of the written posture
+  // The feed in force for a cutting move (lin); NaN for ptp and rapid motions.
+  double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
+  // The physical TCP (virtual joints at 0: the same point) in the CL (part) frame, mm.
+  Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
+};
+
+// Called for every written motion, after it was written. Empty: no samples are made.
+using MotionObserver = std::function<void(const MotionSample&)>;
+
+struct PostOptions {
+  KrlProgramInfo program;
+  TrackerOptions tracker;
+  // Where the CL (workpiece) frame sits in the cell's frame {B}. Identity for the reference cell,
+  // whose {B} is the workpiece frame on the table.
+  Isometry T_B_part = Isometry::Identity();
+  // The frame the E6POS coordinates are written in ($BASE), expressed in {B}.
+  Isometry T_B_base = Isometry::Identity();
+  // Long moves are tracked in steps of at most this length (mm) and this axis turn, so that the
+  // redundancy is resolved continuously along them; only the end point is written.
+  double max_step_mm = 5.0;
+  double max_step_axis_deg = 2.0;
+  // Circular moves (circular_move) are split into chords straying at most this far from the arc
+  // (mm), like the CL reader's CIRCLE; their ends must lie on one circle within
+  // arc_point_tolerance_mm.
+  double chordal_tolerance_mm = 0.01;
+  double arc_point_tolerance_mm = 0.005;
+  // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
+  double default_feed_mm_per_min = 1000.0;
+  // Name of the CL source, for messages ("part.apt").
+  std::string source_name = "<cl>";
+  // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
+  std::string joints_csv_path;
+  // Sees every written motion (see MotionSample). Empty: none, at no cost.
+  MotionObserver on_motion;
+};
+
+struct JointRange {
+  double lowest = 0.0, highest = 0.0;             // DH units
+  double margin_lower = 0.0, margin_upper = 0.0;  // smallest distance to each limit
+};
+
+struct PostSummary {
+  long poses = 0;    // postures tracked (including the intermediate steps of long moves)
+  long motions = 0;  // motions written
+  double lowest_inv_condition = 1.0;
+  int lowest_inv_condition_line = 0;  // CL line where it occurred
+  std::vector<JointRange> joints;     // per joint, chain order
+  std::vector<std::string> warnings;
+  std::vector<std::string> files;  // final .src files written (after finish)
+};
+
+class PostSession {
+ public:
+  PostSession(const Cell& cell, const KrlTemplateSet& templates, const PostOptions& options);
+  ~PostSession();
+  PostSession(const PostSession&) = delete;
+  PostSession& operator=(const PostSession&) = delete;
+
+  // Dispatches one event of a CL stream to the calls below.
+  void handle(const ClEvent& event);
+
+  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm);
+  void spindle(double rpm, SpindleDirection direction);
+  void feed(double mm_per_min);
+  void rapid();  // the next move is a rapid traverse
+  void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  // An arc from the last move's CL point to p_mm about the axis through `centre`, turning by the
+  // right-hand rule (a helix if the height along the axis changes), written as the moves of its
+  // chords within PostOptions::chordal_tolerance_mm. radius_mm > 0 is checked against the start;
+  // 0: taken from the start. The chords keep the previous tool axis, the last one takes
+  // `tool_axis`, as the CL reader does for CIRCLE.
+  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  void coolant(bool on, const std::string& mode);
+  void operation_start(const std::string& name);
+  void operation_end();
+  void comment(const std::string& text);
+  void literal(const std::string& text);
+
+  // Completes the program (renaming the files into place) and returns the summary.
+  const PostSummary& finish();
+
+  // Replaces PostOptions::on_motion, for hosts that attach an observer after opening.
+  void set_motion_observer(MotionObserver observer);
+
+  const PoseResult& last_pose() const;
+  const PostSummary& summary() const;
+  const Cell& cell() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace redpost

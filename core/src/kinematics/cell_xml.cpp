@@ -1,0 +1,428 @@
+#include "redpost/kinematics/cell_xml.hpp"
+
+#include <tinyxml2.h>
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "io/strict_xml.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/kuka_abc.hpp"
+
+namespace redpost {
+
+namespace {
+
+using tinyxml2::XMLElement;
+
+// Largest magnitudes accepted, to catch typos such as 1e308 before they poison the maths.
+constexpr double kMaxLengthMm = 1e7;    // 10 km
+constexpr double kMaxAngleDeg = 1e5;    // about 280 turns
+constexpr double kMaxStiffness = 1e15;  // N*mm/rad
+
+class Reader : public detail::StrictXml {
+ public:
+  using StrictXml::fail;
+  using StrictXml::StrictXml;
+
+  // A number with an optional unit suffix. `units` maps suffix -> factor into internal units;
+  // the first entry is the default unit (empty suffix).
+  struct Unit {
+    std::string_view suffix;
+    double factor;
+  };
+  double number(const XMLElement* e, const char* attr, const char* text,
+                std::initializer_list<Unit> units, double max_abs) const {
+    std::string_view s(text);
+    auto trim = [](std::string_view v) {
+      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front())))
+        v.remove_prefix(1);
+      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back())))
+        v.remove_suffix(1);
+      return v;
+    };
+    s = trim(s);
+    const char* first = s.data();
+    const char* last = s.data() + s.size();
+    // from_chars takes no '+'; take one, but not a second sign after it ("+-450").
+    if (first != last && *first == '+' && first + 1 != last && first[1] != '-')
+      ++first;
+    double value = 0.0;
+    auto [ptr, ec] = std::from_chars(first, last, value);
+    const std::string where =
+        std::string("<") + e->Name() + "> attribute '" + attr + "' = \"" + text + "\"";
+    if (ec == std::errc::result_out_of_range)
+      fail(e, where + ": number out of range");
+    if (ec != std::errc() || s.empty())
+      fail(e, where + ": not a number");
+    // from_chars also reads "nan" and "inf"; neither has a place in a cell definition.
+    if (!std::isfinite(value))
+      fail(e, where + ": must be a finite number (NaN and inf are refused)");
+    const std::string_view suffix = trim(std::string_view(ptr, static_cast<size_t>(last - ptr)));
+    // A plain number takes no unit: "12a" is a typo, not an unknown unit.
+    if (!suffix.empty() && units.size() == 1 && units.begin()->suffix.empty()) {
+      fail(e, where + ": not a number");
+    }
+    double factor = 0.0;
+    for (const Unit& u : units) {
+      if (u.suffix == suffix || (suffix.empty() && &u == units.begin())) {
+        factor = u.factor;
+        break;
+      }
+    }
+    if (factor == 0.0) {
+      std::string list;
+      for (const Unit& u : units)
+        list += (list.empty() ? "" : ", ") + std::string(u.suffix);
+      fail(e, where + ": unknown unit '" + std::string(suffix) + "' (use " + list + ")");
+    }
+    const double out = value * factor;
+    if (std::fabs(out) > max_abs)
+      fail(e, where + ": magnitude too large to be meant");
+    return out;
+  }
+
+  double length_mm(const XMLElement* e, const char* attr, double fallback) const {
+    const char* t = e->Attribute(attr);
+    return t ? number(e, attr, t, {{"mm", 1.0}, {"m", 1000.0}}, kMaxLengthMm) : fallback;
+  }
+  double angle_rad(const XMLElement* e, const char* attr, double fallback) const {
+    const char* t = e->Attribute(attr);
+    return t ? number(e, attr, t, {{"deg", kPi / 180.0}, {"rad", 1.0}}, deg_to_rad(kMaxAngleDeg))
+             : fallback;
+  }
+  double plain(const XMLElement* e, const char* attr, double max_abs) const {
+    return number(e, attr, required(e, attr), {{"", 1.0}}, max_abs);
+  }
+
+  // x y z (mm) and a b c (deg, KUKA ZYX) of <base>, <fixed>, <tool>.
+  Isometry frame(const XMLElement* e) const {
+    only_attributes(e, {"name", "x", "y", "z", "a", "b", "c"});
+    const KukaAbc abc{rad_to_deg(angle_rad(e, "a", 0.0)), rad_to_deg(angle_rad(e, "b", 0.0)),
+                      rad_to_deg(angle_rad(e, "c", 0.0))};
+    return frame_from_xyzabc(length_mm(e, "x", 0.0), length_mm(e, "y", 0.0), length_mm(e, "z", 0.0),
+                             abc);
+  }
+
+  const XMLElement* child(const XMLElement* parent, const char* name, bool needed) const {
+    const XMLElement* c = parent->FirstChildElement(name);
+    if (!c && needed) {
+      fail(parent, std::string("<") + parent->Name() + "> needs a <" + name + "> element");
+    }
+    if (c && c->NextSiblingElement(name)) {
+      fail(c->NextSiblingElement(name),
+           std::string("<") + name + "> given twice in <" + parent->Name() + ">");
+    }
+    return c;
+  }
+};
+
+JointType parse_type(const Reader& r, const XMLElement* e) {
+  const std::string t = r.required(e, "type");
+  if (t == "revolute")
+    return JointType::revolute;
+  if (t == "prismatic")
+    return JointType::prismatic;
+  if (t == "virtual")
+    return JointType::virtual_spin;
+  r.fail(e, "unknown joint type '" + t + "' (use revolute, prismatic or virtual)");
+}
+
+DhConvention parse_convention(const Reader& r, const XMLElement* e, const char* attr,
+                              DhConvention fallback) {
+  const char* t = e->Attribute(attr);
+  if (!t)
+    return fallback;
+  const std::string v = t;
+  if (v == "standard")
+    return DhConvention::standard;
+  if (v == "modified")
+    return DhConvention::modified;
+  r.fail(e, "unknown DH convention '" + v + "' (use standard or modified)");
+}
+
+ControllerAxis parse_axis(const Reader& r, const XMLElement* e, const Joint& j) {
+  r.only_attributes(e, {"name", "sign", "offset"});
+  ControllerAxis axis;
+  const std::string name = r.required(e, "name");
+  if (name == "none") {
+    if (e->Attribute("sign") || e->Attribute("offset")) {
+      r.fail(e, "an <axis name=\"none\"> takes no sign or offset");
+    }
+    return axis;
+  }
+  if (name.size() != 2 || (name[0] != 'A' && name[0] != 'E') || name[1] < '1' || name[1] > '6') {
+    r.fail(e, "unknown controller axis '" + name + "' (use A1..A6, E1..E6 or none)");
+  }
+  if (j.type == JointType::virtual_spin) {
+    r.fail(e, "joint '" + j.name + "' is virtual (the tool's free spin) and cannot drive axis " +
+                  name + "; use <axis name=\"none\"/> or leave it out");
+  }
+  axis.kind = name[0] == 'A' ? AxisKind::arm : AxisKind::external;
+  axis.number = name[1] - '0';
+  if (e->Attribute("sign")) {
+    const double s = r.plain(e, "sign", 1e9);
+    if (s != 1.0 && s != -1.0)
+      r.fail(e, "<axis> sign must be 1 or -1");
+    axis.sign = s;
+  }
+  // The offset is in controller units: deg for a revolute joint, mm for a prismatic one.
+  if (e->Attribute("offset")) {
+    axis.offset = j.type == JointType::prismatic ? r.length_mm(e, "offset", 0.0)
+                                                 : rad_to_deg(r.angle_rad(e, "offset", 0.0));
+  }
+  return axis;
+}
+
+// Reads a joint value given in DH units (default) or controller-axis units (in="axis").
+double joint_value(const Reader& r, const XMLElement* e, const char* attr, const Joint& j,
+                   bool in_axis_units) {
+  if (!e->Attribute(attr))
+    r.required(e, attr);
+  if (j.type == JointType::prismatic) {
+    const double v = r.length_mm(e, attr, 0.0);
+    return in_axis_units ? from_axis_value(j, v) : v;
+  }
+  const double v = r.angle_rad(e, attr, 0.0);
+  return in_axis_units ? from_axis_value(j, rad_to_deg(v)) : v;
+}
+
+bool axis_units(const Reader& r, const XMLElement* e) {
+  const char* t = e->Attribute("in");
+  if (!t)
+    return false;
+  const std::string v = t;
+  if (v == "dh")
+    return false;
+  if (v == "axis")
+    return true;
+  r.fail(e, "<" + std::string(e->Name()) + "> in=\"" + v + "\": use in=\"dh\" or in=\"axis\"");
+}
+
+std::string unit_of(const Joint& j) {
+  return j.type == JointType::prismatic ? "mm" : "deg";
+}
+double show(const Joint& j, double v) {
+  return j.type == JointType::prismatic ? v : rad_to_deg(v);
+}
+std::string fmt_num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_convention) {
+  r.only_attributes(e, {"name", "type", "dh"});
+  Joint j;
+  j.source_line = e->GetLineNum();
+  j.name = r.required(e, "name");
+  if (j.name.empty())
+    r.fail(e, "a joint needs a non-empty name");
+  j.type = parse_type(r, e);
+  j.convention = parse_convention(r, e, "dh", cell_convention);
+
+  for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    const std::string n = c->Name();
+    if (n != "dh" && n != "limits" && n != "home" && n != "weight" && n != "axis" &&
+        n != "stiffness") {
+      r.fail(c, "unknown element <" + n + "> in joint '" + j.name +
+                    "' (known: dh, limits, home, weight, axis, stiffness)");
+    }
+  }
+
+  const XMLElement* dh = r.child(e, "dh", true);
+  r.only_attributes(dh, {"alpha", "a", "theta", "d"});
+  for (const char* attr : {"alpha", "a", "theta", "d"})
+    r.required(dh, attr);
+  j.alpha_rad = r.angle_rad(dh, "alpha", 0.0);
+  j.a_mm = r.length_mm(dh, "a", 0.0);
+  j.theta_rad = r.angle_rad(dh, "theta", 0.0);
+  j.d_mm = r.length_mm(dh, "d", 0.0);
+
+  // The axis mapping comes first: limits and home may be given in controller units.
+  if (const XMLElement* a = r.child(e, "axis", false))
+    j.axis = parse_axis(r, a, j);
+
+  const XMLElement* lim = r.child(e, "limits", true);
+  r.only_attributes(lim, {"min", "max", "in"});
+  const bool lim_axis = axis_units(r, lim);
+  double lo = joint_value(r, lim, "min", j, lim_axis);
+  double hi = joint_value(r, lim, "max", j, lim_axis);
+  if (lim_axis && j.axis.sign < 0)
+    std::swap(lo, hi);  // a sign flip swaps the ends
+  if (lo > hi) {
+    r.fail(lim, "<limits> of joint '" + j.name + "': min " + fmt_num(show(j, lo)) + " > max " +
+                    fmt_num(show(j, hi)) + " " + unit_of(j) + " (DH units)");
+  }
+  j.lower = lo;
+  j.upper = hi;
+
+  const XMLElement* home = r.child(e, "home", true);
+  r.only_attributes(home, {"value", "in"});
+  j.home = joint_value(r, home, "value", j, axis_units(r, home));
+  if (j.home < j.lower || j.home > j.upper) {
+    r.fail(home, "home of joint '" + j.name + "' is " + fmt_num(show(j, j.home)) + " " +
+                     unit_of(j) + ", outside its limits [" + fmt_num(show(j, j.lower)) + ", " +
+                     fmt_num(show(j, j.upper)) + "] (DH units)");
+  }
+
+  if (const XMLElement* w = r.child(e, "weight", false)) {
+    r.only_attributes(w, {"value"});
+    j.weight = r.plain(w, "value", 1e12);
+    if (!(j.weight > 0.0))
+      r.fail(w, "the weight of joint '" + j.name + "' must be > 0");
+  }
+
+  if (const XMLElement* s = r.child(e, "stiffness", false)) {
+    r.only_attributes(s, {"value", "unit"});
+    const std::string unit = s->Attribute("unit") ? s->Attribute("unit") : "";
+    double factor = 0.0;
+    if (j.type == JointType::prismatic) {
+      if (unit == "N/mm" || unit.empty())
+        factor = 1.0;
+      if (unit == "N/m")
+        factor = 1e-3;
+    } else {
+      // Internal unit: N*mm/rad.
+      if (unit == "Nm/rad" || unit.empty())
+        factor = 1e3;
+      if (unit == "kNm/rad")
+        factor = 1e6;
+      if (unit == "MNm/rad")
+        factor = 1e9;
+    }
+    if (factor == 0.0) {
+      r.fail(s, "unknown stiffness unit '" + unit + "' for a " +
+                    (j.type == JointType::prismatic ? "prismatic joint (use N/mm or N/m)"
+                                                    : "rotary joint (use Nm/rad, kNm/rad or "
+                                                      "MNm/rad)"));
+    }
+    const double k = r.plain(s, "value", 1e300) * factor;
+    if (k > kMaxStiffness) {
+      r.fail(s, "the stiffness of joint '" + j.name + "' has a magnitude too large to be meant");
+    }
+    if (!(k > 0.0))
+      r.fail(s, "the stiffness of joint '" + j.name + "' must be > 0");
+    j.stiffness = k;
+  }
+  return j;
+}
+
+}  // namespace
+
+Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
+  Reader r(source_name);
+  tinyxml2::XMLDocument doc;
+  const XMLElement* root = r.parse(doc, xml_text, "cell");
+  r.only_attributes(root, {"name", "format", "dh"});
+  if (const char* f = root->Attribute("format"); f && std::string(f) != "1") {
+    r.fail(root, std::string("unsupported cell format \"") + f + "\" (this redpost reads 1)");
+  }
+
+  Cell cell;
+  cell.source_file = source_name;
+  cell.name = r.required(root, "name");
+  const DhConvention convention = parse_convention(r, root, "dh", DhConvention::standard);
+
+  Isometry pending = Isometry::Identity();  // <fixed> frames waiting for the next joint
+  bool have_pending = false;
+  bool seen_tool = false, seen_base = false, seen_cond = false;
+  const XMLElement* cond = nullptr;
+  std::set<std::string> names;
+  std::map<std::string, std::string> axis_owner;  // axis name -> joint
+
+  for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string n = e->Name();
+    if (seen_tool && (n == "joint" || n == "fixed")) {
+      r.fail(e, "<" + n + "> after <tool>: the tool frame ends the chain");
+    }
+    if (n == "base") {
+      if (seen_base || cell.joint_count > 0 || have_pending) {
+        r.fail(e, "<base> must come once, before the first joint");
+      }
+      seen_base = true;
+      cell.T_B_0 = r.frame(e);
+    } else if (n == "joint") {
+      if (cell.joint_count == kMaxJoints) {
+        r.fail(e, "too many joints: redpost handles at most " + std::to_string(kMaxJoints));
+      }
+      Joint j = parse_joint(r, e, convention);
+      if (!names.insert(j.name).second)
+        r.fail(e, "joint name '" + j.name + "' used twice");
+      if (j.axis.mapped()) {
+        const auto [owner, fresh] = axis_owner.emplace(axis_name(j.axis), j.name);
+        if (!fresh) {
+          r.fail(e->FirstChildElement("axis"), "controller axis " + axis_name(j.axis) +
+                                                   " is mapped to two joints, '" + owner->second +
+                                                   "' and '" + j.name + "'");
+        }
+      }
+      j.T_prev_link = pending;
+      j.has_fixed_before = have_pending;
+      pending = Isometry::Identity();
+      have_pending = false;
+      cell.joints[static_cast<size_t>(cell.joint_count++)] = std::move(j);
+    } else if (n == "fixed") {
+      pending = pending * r.frame(e);
+      have_pending = true;
+    } else if (n == "tool") {
+      seen_tool = true;
+      pending = pending * r.frame(e);
+      have_pending = true;
+    } else if (n == "conditioning") {
+      if (seen_cond)
+        r.fail(e, "<conditioning> given twice");
+      seen_cond = true;
+      cond = e;
+    } else {
+      r.fail(e, "unknown element <" + n +
+                    "> in <cell> (known: base, joint, fixed, tool, conditioning)");
+    }
+  }
+  if (cell.joint_count == 0)
+    r.fail(root, "the cell has no <joint>");
+  cell.T_last_tcp = pending;
+
+  if (cond) {
+    r.only_attributes(cond, {"first", "last", "length"});
+    const std::string first = r.required(cond, "first"), last = r.required(cond, "last");
+    cell.conditioning.first = cell.find_joint(first);
+    cell.conditioning.last = cell.find_joint(last);
+    if (cell.conditioning.first < 0)
+      r.fail(cond, "<conditioning> first: no joint '" + first + "'");
+    if (cell.conditioning.last < 0)
+      r.fail(cond, "<conditioning> last: no joint '" + last + "'");
+    if (cell.conditioning.last < cell.conditioning.first) {
+      r.fail(cond, "<conditioning> first joint '" + first + "' comes after last joint '" + last +
+                       "' in the chain");
+    }
+    if (cell.conditioning.count() < 6) {
+      r.fail(cond, "<conditioning> must span at least 6 joints (from '" + first + "' to '" + last +
+                       "' is " + std::to_string(cell.conditioning.count()) + ")");
+    }
+    r.required(cond, "length");
+    cell.conditioning.characteristic_length_mm = r.length_mm(cond, "length", 0.0);
+    if (!(cell.conditioning.characteristic_length_mm > 0.0)) {
+      r.fail(cond, "<conditioning> length must be > 0 mm");
+    }
+  }
+  finalize_cell(cell);
+  return cell;
+}
+
+Cell load_cell(const std::string& path) {
+  return parse_cell(read_text_file(path), path);
+}
+
+}  // namespace redpost

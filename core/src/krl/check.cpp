@@ -1,0 +1,548 @@
+// A static check of KRL programs (docs/krl-diff.md).
+#include "redpost/krl/check.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "io/text_util.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/krl/diff.hpp"
+
+namespace redpost {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string upper(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool ident_start(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == '$';
+}
+bool ident_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';
+}
+
+using detail::trim;
+
+// The code of a line: the comment (from ';' outside quotes) removed, and the contents of
+// "strings" and 'B010' literals blanked so that they are not read as identifiers.
+std::string code_of(const std::string& line) {
+  std::string out;
+  out.reserve(line.size());
+  char quote = 0;
+  for (char c : line) {
+    if (quote) {
+      if (c == quote) {
+        quote = 0;
+        out += c;
+      } else {
+        out += ' ';
+      }
+      continue;
+    }
+    if (c == ';')
+      break;
+    if (c == '"' || c == '\'')
+      quote = c;
+    out += c;
+  }
+  return out;
+}
+
+std::vector<std::string> words(const std::string& code) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  while (i < code.size()) {
+    if (ident_start(code[i])) {
+      size_t j = i;
+      while (j < code.size() && ident_char(code[j]))
+        ++j;
+      out.push_back(upper(code.substr(i, j - i)));
+      i = j;
+    } else {
+      ++i;
+    }
+  }
+  return out;
+}
+
+const std::set<std::string>& builtin_types() {
+  static const std::set<std::string> t = {"INT", "REAL",  "BOOL", "CHAR",  "FRAME",
+                                          "POS", "E6POS", "AXIS", "E6AXIS"};
+  return t;
+}
+
+const std::set<std::string>& motion_keywords() {
+  static const std::set<std::string> k = {"PTP",     "LIN",      "CIRC",     "SPTP",
+                                          "SLIN",    "SCIRC",    "SPL",      "PTP_REL",
+                                          "LIN_REL", "CIRC_REL", "SPTP_REL", "SLIN_REL"};
+  return k;
+}
+
+// Words after which a motion's arguments end.
+const std::set<std::string>& motion_options() {
+  static const std::set<std::string> k = {"C_DIS", "C_PTP", "C_VEL", "C_ORI", "C_SPL",
+                                          "CA",    "CT",    "WITH",  "#BASE", "#TOOL"};
+  return k;
+}
+
+// Names a motion may use without declaring them in its module ($config.dat globals).
+const std::set<std::string>& global_points() {
+  static const std::set<std::string> k = {"HOME", "XHOME"};
+  return k;
+}
+
+// Is the line (code, upper-case words) a declaration? Sets `names` to the names it declares.
+bool declaration(const std::string& code, const std::vector<std::string>& w,
+                 std::vector<std::string>* names) {
+  size_t i = 0;
+  if (i < w.size() && w[i] == "GLOBAL")
+    ++i;
+  bool decl = false;
+  if (i < w.size() && w[i] == "DECL") {
+    decl = true;
+    ++i;
+  }
+  while (i < w.size() && (w[i] == "GLOBAL" || w[i] == "CONST"))
+    ++i;
+  if (!decl) {
+    if (i < w.size() && (w[i] == "STRUC" || w[i] == "ENUM" || w[i] == "SIGNAL" || w[i] == "EXT" ||
+                         w[i] == "EXTFCT" || w[i] == "IMPORT"))
+      return true;
+    // Implicit DECL: a built-in type followed by a name ("INT I", "E6POS P1").
+    if (!(i + 1 < w.size() && builtin_types().count(w[i])))
+      return false;
+    // "INT I" but not "INTERRUPT ..." (words() splits on identifiers, so INT is a whole word)
+  }
+  if (!names)
+    return true;
+  // After the type: NAME[dims] = value, NAME2, ...; split at top-level commas.
+  const std::string type = i < w.size() ? w[i] : "";
+  const std::string ucode = upper(code);
+  size_t pos = ucode.find(type, ucode.find(decl ? "DECL" : type) + (decl ? 4 : 0));
+  if (type.empty() || pos == std::string::npos)
+    return true;
+  pos += type.size();
+  int depth = 0;
+  bool expect_name = true;
+  while (pos < ucode.size()) {
+    const char c = ucode[pos];
+    if (c == '{' || c == '[' || c == '(') {
+      ++depth;
+    } else if (c == '}' || c == ']' || c == ')') {
+      --depth;
+    } else if (c == ',' && depth == 0) {
+      expect_name = true;
+    } else if (c == '=' && depth == 0) {
+      expect_name = false;
+    } else if (expect_name && depth == 0 && ident_start(c)) {
+      size_t j = pos;
+      while (j < ucode.size() && ident_char(ucode[j]))
+        ++j;
+      names->push_back(ucode.substr(pos, j - pos));
+      expect_name = false;
+      pos = j;
+      continue;
+    }
+    ++pos;
+  }
+  return true;
+}
+
+struct Block {
+  std::string kind;  // DEF, DEFFCT, DEFDAT
+  std::string name;
+  int line = 0;
+  int first_statement = 0;
+};
+
+std::string closing_of(const std::string& kind) {
+  return kind == "DEFFCT" ? "ENDFCT" : kind == "DEFDAT" ? "ENDDAT" : "END";
+}
+
+template <typename F>
+void for_each_line(const std::string& text, F f) {
+  size_t pos = 0;
+  int line = 0;
+  while (pos < text.size()) {
+    size_t eol = text.find('\n', pos);
+    if (eol == std::string::npos)
+      eol = text.size();
+    std::string l = text.substr(pos, eol - pos);
+    if (!l.empty() && l.back() == '\r')
+      l.pop_back();
+    f(++line, l);
+    pos = eol + 1;
+  }
+}
+
+std::string normal(const std::string& path) {
+  return fs::path(path).lexically_normal().string();
+}
+
+// The .dat beside a .src (same stem, extension in any case), or "".
+std::string dat_of(const fs::path& src) {
+  std::error_code ec;
+  const std::string stem = upper(src.stem().string());
+  const fs::path dir = src.has_parent_path() ? src.parent_path() : fs::path(".");
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path& p = it->path();
+    if (upper(p.extension().string()) == ".DAT" && upper(p.stem().string()) == stem)
+      return p.string();
+  }
+  return "";
+}
+
+// The reader's limit (16 MiB): a larger file is no controller program, and reading it whole
+// would let a hostile input take any amount of memory.
+std::string read_all(const std::string& path) {
+  return read_text_file(path);
+}
+
+}  // namespace
+
+std::vector<std::string> krl_declared_names(const std::string& text) {
+  std::vector<std::string> names;
+  for_each_line(text, [&](int, const std::string& line) {
+    const std::string code = code_of(line);
+    const std::vector<std::string> w = words(code);
+    if (!w.empty())
+      declaration(code, w, &names);
+  });
+  return names;
+}
+
+std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
+                                       const std::vector<std::string>& dat_declared,
+                                       const KrlCheckOptions& options) {
+  std::vector<KrlFinding> out;
+  auto find = [&](int line, std::string message) {
+    out.push_back({file, line, std::move(message)});
+  };
+  if (text.size() > options.max_bytes)
+    find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", text.size(),
+                        options.max_bytes));
+
+  std::set<std::string> declared(dat_declared.begin(), dat_declared.end());
+  for (const std::string& n : krl_declared_names(text))
+    declared.insert(n);
+
+  std::vector<int> folds;
+  std::vector<Block> blocks;
+  std::set<std::string> long_reported;
+  for_each_line(text, [&](int line_no, const std::string& line) {
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '&')
+      return;
+    if (t[0] == ';') {
+      const std::string u = upper(t);
+      if (u.rfind(";FOLD", 0) == 0) {
+        folds.push_back(line_no);
+      } else if (u.rfind(";ENDFOLD", 0) == 0) {
+        if (folds.empty())
+          find(line_no, "ENDFOLD without a matching FOLD");
+        else
+          folds.pop_back();
+      }
+      return;
+    }
+    const std::string code = code_of(line);
+    const std::vector<std::string> w = words(code);
+    if (w.empty())
+      return;
+
+    // Identifiers longer than 24 characters ($ system variables and #enum values excluded).
+    {
+      size_t i = 0;
+      while (i < code.size()) {
+        if (ident_start(code[i]) && (i == 0 || !ident_char(code[i - 1]))) {
+          size_t j = i;
+          while (j < code.size() && ident_char(code[j]))
+            ++j;
+          const bool system = code[i] == '$' || (i > 0 && code[i - 1] == '#');
+          const bool field = i > 0 && code[i - 1] == '.';
+          const std::string name = code.substr(i, j - i);
+          if (!system && !field && static_cast<int>(name.size()) > kKrlMaxIdentifierLength &&
+              long_reported.insert(upper(name)).second)
+            find(line_no, fmt::format("identifier '{}' has {} characters, more than {}", name,
+                                      name.size(), kKrlMaxIdentifierLength));
+          i = j;
+        } else {
+          ++i;
+        }
+      }
+    }
+
+    // DEF/END blocks.
+    size_t k = w[0] == "GLOBAL" ? 1 : 0;
+    const std::string first = k < w.size() ? w[k] : "";
+    if (first == "DEF" || first == "DEFFCT" || first == "DEFDAT") {
+      if (!blocks.empty())
+        find(line_no,
+             fmt::format("{} inside {} {} (line {}): missing {}", first, blocks.back().kind,
+                         blocks.back().name, blocks.back().line, closing_of(blocks.back().kind)));
+      Block b;
+      b.kind = first;
+      size_t n = k + 1;
+      if (first == "DEFFCT" && n < w.size())
+        ++n;  // the return type
+      b.name = n < w.size() ? w[n] : "";
+      b.line = line_no;
+      blocks.clear();
+      blocks.push_back(b);
+      return;
+    }
+    if (first == "END" || first == "ENDFCT" || first == "ENDDAT") {
+      if (blocks.empty()) {
+        find(line_no, first + " without a matching DEF");
+      } else {
+        if (closing_of(blocks.back().kind) != first)
+          find(line_no, fmt::format("{} closes {} {} (line {})", first, blocks.back().kind,
+                                    blocks.back().name, blocks.back().line));
+        blocks.pop_back();
+      }
+      return;
+    }
+
+    // Declarations before statements.
+    if (declaration(code, w, nullptr)) {
+      if (!blocks.empty() && blocks.back().kind != "DEFDAT" && blocks.back().first_statement > 0)
+        find(line_no, fmt::format("declaration after the first statement (line {}): KRL "
+                                  "requires declarations before statements",
+                                  blocks.back().first_statement));
+      return;
+    }
+    if (!blocks.empty() && blocks.back().first_statement == 0)
+      blocks.back().first_statement = line_no;
+
+    // $VEL.CP in (0, 2] m/s.
+    const std::string ucode = upper(code);
+    const size_t vel = ucode.find("$VEL.CP");
+    if (vel != std::string::npos) {
+      size_t p = vel + 7;
+      while (p < ucode.size() && ucode[p] == ' ')
+        ++p;
+      if (p < ucode.size() && ucode[p] == '=' && (p + 1 >= ucode.size() || ucode[p + 1] != '=')) {
+        const char* begin = code.c_str() + p + 1;
+        char* end = nullptr;
+        const double v = std::strtod(begin, &end);
+        if (end != begin && trim(std::string(end)).empty() && (v <= 0.0 || v > kKrlMaxVelCp))
+          find(line_no, fmt::format("$VEL.CP = {} m/s is out of range (0, {}] m/s", trim(begin),
+                                    kKrlMaxVelCp));
+      }
+    }
+
+    // Named motion targets must be declared.
+    if (motion_keywords().count(w[0])) {
+      const std::string after = code.substr(upper(code).find(w[0]) + w[0].size());
+      size_t p = 0;
+      int args = 0;
+      while (p < after.size() && args < 2) {
+        const char c = after[p];
+        if (c == ' ' || c == '\t' || c == ',') {
+          ++p;
+        } else if (c == '{') {
+          int depth = 0;
+          while (p < after.size()) {
+            if (after[p] == '{')
+              ++depth;
+            if (after[p] == '}' && --depth == 0)
+              break;
+            ++p;
+          }
+          ++p;
+          ++args;
+        } else if (ident_start(c)) {
+          size_t j = p;
+          while (j < after.size() && ident_char(after[j]))
+            ++j;
+          const std::string name = upper(after.substr(p, j - p));
+          if (motion_options().count(name))
+            break;
+          ++args;
+          if (name[0] != '$' && !global_points().count(name) && !declared.count(name))
+            find(line_no,
+                 fmt::format("motion target '{}' is not declared (neither in this file nor in "
+                             "its .dat)",
+                             after.substr(p, j - p)));
+          p = j;
+          // Skip an index or a component: P[1], XP1.X
+          while (p < after.size() && (after[p] == '[' || after[p] == '.')) {
+            if (after[p] == '[') {
+              while (p < after.size() && after[p] != ']')
+                ++p;
+              ++p;
+            } else {
+              ++p;
+              while (p < after.size() && ident_char(after[p]))
+                ++p;
+            }
+          }
+        } else {
+          break;
+        }
+      }
+    }
+  });
+  for (const Block& b : blocks)
+    find(b.line, fmt::format("{} {} has no {}", b.kind, b.name, closing_of(b.kind)));
+  for (int l : folds)
+    find(l, "FOLD without a matching ENDFOLD");
+  return out;
+}
+
+std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
+                                          const KrlCheckOptions& options) {
+  std::vector<KrlFinding> out;
+  // S and T on the first Cartesian PTP: without them the controller picks the posture from
+  // wherever the robot happens to be.
+  for (const KrlMotionRecord& m : program.motions) {
+    const std::string kw = upper(m.keyword);
+    if (m.relative || (kw != "PTP" && kw != "SPTP"))
+      continue;
+    const KrlAggregate& t = m.target;
+    const bool cartesian =
+        t.has("X") || t.has("Y") || t.has("Z") || t.has("A") || t.has("B") || t.has("C");
+    if (!cartesian)
+      continue;
+    if (!t.status || !t.turn) {
+      const std::string missing = !t.status && !t.turn ? "S and T" : !t.status ? "S" : "T";
+      out.push_back({m.file, m.line,
+                     fmt::format("the first Cartesian {} has no {}: the posture is then left "
+                                 "to the robot's current one",
+                                 kw, missing)});
+    }
+    break;
+  }
+  if (options.cell) {
+    const Cell& cell = *options.cell;
+    const char* const names[12] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                                   "E1", "E2", "E3", "E4", "E5", "E6"};
+    for (const KrlMotionRecord& m : program.motions) {
+      if (m.relative)
+        continue;
+      for (int a = 0; a < 12; ++a) {
+        auto it = m.target.values.find(names[a]);
+        if (it == m.target.values.end())
+          continue;
+        const AxisKind kind = a < 6 ? AxisKind::arm : AxisKind::external;
+        const int number = a < 6 ? a + 1 : a - 5;
+        for (int j = 0; j < cell.size(); ++j) {
+          const Joint& joint = cell.joint(j);
+          if (joint.axis.kind != kind || joint.axis.number != number)
+            continue;
+          const double q = from_axis_value(joint, it->second);
+          const double slack = 1e-9 * std::max(1.0, std::abs(joint.upper - joint.lower));
+          if (q < joint.lower - slack || q > joint.upper + slack) {
+            double lo = to_axis_value(joint, joint.lower), hi = to_axis_value(joint, joint.upper);
+            if (lo > hi)
+              std::swap(lo, hi);
+            out.push_back({m.file, m.line,
+                           fmt::format("{} {:g} is outside the limits [{:g}, {:g}] of joint '{}'",
+                                       names[a], it->second, lo, hi, joint.name)});
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions& options) {
+  std::vector<KrlFinding> out;
+  std::vector<std::string> srcs, mains;
+  std::error_code ec;
+  const bool directory = fs::is_directory(path, ec);
+  if (!directory && !fs::exists(path, ec))
+    throw Error(ErrorCode::io, "no such file or directory", SourceLocation{path, 0, 0});
+  if (directory) {
+    for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_regular_file() && upper(it->path().extension().string()) == ".SRC")
+        srcs.push_back(it->path().string());
+    std::sort(srcs.begin(), srcs.end());
+    mains = krl_main_programs(path);
+  } else {
+    mains.push_back(path);
+  }
+
+  // The program as read: motion checks, and (for a file) the .src files it calls.
+  std::set<std::string> seen;
+  std::vector<KrlFinding> reader_stops;  // programs the reader rejected
+  for (const std::string& m : mains) {
+    try {
+      const KrlProgram program = read_krl_program(m);
+      for (KrlFinding& f : check_krl_motions(program, options))
+        out.push_back(std::move(f));
+      if (!directory)
+        for (const std::string& f : program.files)
+          if (seen.insert(normal(f)).second)
+            srcs.push_back(f);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::bad_input)
+        throw;
+      reader_stops.push_back(
+          {e.where().file.empty() ? m : e.where().file, e.where().line, e.message()});
+    }
+  }
+  if (!directory && seen.insert(normal(path)).second)
+    srcs.insert(srcs.begin(), path);
+
+  // Names declared GLOBAL in any .dat beside the programs are visible everywhere.
+  for (const std::string& src : srcs) {
+    const std::string src_text = read_all(src);
+    const std::string dat = dat_of(fs::path(src));
+    std::vector<std::string> dat_names;
+    if (!dat.empty()) {
+      const std::string dat_text = read_all(dat);
+      dat_names = krl_declared_names(dat_text);
+      if (seen.insert(normal(dat) + "#dat").second)
+        for (KrlFinding& f : check_krl_text(dat, dat_text, {}, options))
+          out.push_back(std::move(f));
+    }
+    for (KrlFinding& f : check_krl_text(src, src_text, dat_names, options))
+      out.push_back(std::move(f));
+  }
+
+  for (KrlFinding& f : out)
+    f.file = normal(f.file);
+  // A program the reader rejects is a finding; where a text check already reports that line
+  // (an undeclared point, say), only note that the motion checks were not done.
+  for (KrlFinding& r : reader_stops) {
+    r.file = normal(r.file);
+    const bool known = std::any_of(out.begin(), out.end(), [&](const KrlFinding& f) {
+      return f.file == r.file && f.line == r.line;
+    });
+    if (known)
+      r.message = "the program cannot be read past this line: S/T and cell-limit checks not done";
+    out.push_back(std::move(r));
+  }
+  std::sort(out.begin(), out.end(), [](const KrlFinding& a, const KrlFinding& b) {
+    if (a.file != b.file)
+      return a.file < b.file;
+    if (a.line != b.line)
+      return a.line < b.line;
+    return a.message < b.message;
+  });
+  out.erase(std::unique(out.begin(), out.end(),
+                        [](const KrlFinding& a, const KrlFinding& b) {
+                          return a.file == b.file && a.line == b.line && a.message == b.message;
+                        }),
+            out.end());
+  return out;
+}
+
+}  // namespace redpost

@@ -1,0 +1,924 @@
+// Comparing two KRL programs motion by motion (docs/krl-diff.md).
+#include "redpost/krl/diff.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/kuka_abc.hpp"
+
+namespace redpost {
+
+namespace fs = std::filesystem;
+
+const char* krl_quantity_name(KrlQuantity q) {
+  static const char* const names[kKrlQuantityCount] = {
+      "position", "orientation", "aux_position", "A1",      "A2",         "A3", "A4",
+      "A5",       "A6",          "E1",           "E2",      "E3",         "E4", "E5",
+      "E6",       "status",      "turn",         "keyword", "target_kind"};
+  return names[static_cast<int>(q)];
+}
+
+const char* krl_quantity_unit(KrlQuantity q) {
+  switch (q) {
+    case KrlQuantity::position:
+    case KrlQuantity::aux_position:
+      return "mm";
+    case KrlQuantity::orientation:
+      return "deg";
+    case KrlQuantity::status:
+    case KrlQuantity::turn:
+    case KrlQuantity::keyword:
+    case KrlQuantity::target_kind:
+      return "";
+    default:
+      return "axis";  // deg for rotary axes, mm for linear ones
+  }
+}
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Below this the orientation deviation is rounding noise of the rotation matrices (deg).
+constexpr double kAngleNoiseDeg = 1e-9;
+
+std::string upper(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A motion with its target made complete: fields a partial aggregate leaves out keep the value
+// of the previous target of the same kind (KRL takes them from the current position).
+struct Pose {
+  const KrlMotionRecord* m = nullptr;
+  std::string keyword;
+  bool cartesian = false;  // X/Y/Z target
+  bool axis = false;       // A1..A6 target
+  std::array<double, 3> xyz{kNaN, kNaN, kNaN};
+  std::array<double, 3> abc{kNaN, kNaN, kNaN};
+  std::array<double, 12> axes;  // A1..A6 (axis targets only), E1..E6
+  std::optional<int> status, turn;
+  bool has_aux = false;
+  std::array<double, 3> aux{kNaN, kNaN, kNaN};
+  Pose() { axes.fill(kNaN); }
+};
+
+const char* const kCart[6] = {"X", "Y", "Z", "A", "B", "C"};
+const char* const kAxes[12] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                               "E1", "E2", "E3", "E4", "E5", "E6"};
+
+std::vector<Pose> complete_poses(const KrlProgram& p) {
+  std::vector<Pose> out;
+  out.reserve(p.motions.size());
+  std::array<double, 6> cart;
+  cart.fill(kNaN);
+  std::array<double, 12> ax;
+  ax.fill(kNaN);
+  for (const KrlMotionRecord& m : p.motions) {
+    Pose pose;
+    pose.m = &m;
+    pose.keyword = upper(m.keyword);
+    const auto& v = m.target.values;
+    pose.cartesian = m.target.has("X") || m.target.has("Y") || m.target.has("Z") ||
+                     m.target.has("A") || m.target.has("B") || m.target.has("C");
+    pose.axis =
+        !pose.cartesian && (m.target.has("A1") || m.target.has("A2") || m.target.has("A3") ||
+                            m.target.has("A4") || m.target.has("A5") || m.target.has("A6"));
+    if (m.relative) {
+      // A relative motion is compared as written: its increments.
+      for (int i = 0; i < 6; ++i) {
+        auto it = v.find(kCart[i]);
+        (i < 3 ? pose.xyz[i] : pose.abc[i - 3]) = it == v.end() ? 0.0 : it->second;
+      }
+      for (int i = 0; i < 12; ++i) {
+        auto it = v.find(kAxes[i]);
+        if (it != v.end())
+          pose.axes[i] = it->second;
+      }
+    } else {
+      if (pose.cartesian) {
+        for (int i = 0; i < 6; ++i) {
+          auto it = v.find(kCart[i]);
+          if (it != v.end())
+            cart[i] = it->second;
+        }
+        for (int i = 0; i < 3; ++i) {
+          pose.xyz[i] = cart[i];
+          pose.abc[i] = cart[i + 3];
+        }
+      }
+      for (int i = 0; i < 12; ++i) {
+        if (i < 6 && !pose.axis)
+          continue;
+        auto it = v.find(kAxes[i]);
+        if (it != v.end())
+          ax[i] = it->second;
+        pose.axes[i] = ax[i];
+      }
+    }
+    pose.status = m.target.status;
+    pose.turn = m.target.turn;
+    if (m.aux) {
+      pose.has_aux = true;
+      for (int i = 0; i < 3; ++i) {
+        auto it = m.aux->values.find(kCart[i]);
+        pose.aux[i] = it == m.aux->values.end() ? kNaN : it->second;
+      }
+    }
+    out.push_back(std::move(pose));
+  }
+  return out;
+}
+
+// ---- alignment keys --------------------------------------------------------------------------
+
+uint64_t mix(uint64_t h, uint64_t v) {
+  h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+  return h * 0xff51afd7ed558ccdULL;
+}
+
+uint64_t rounded(double v, double grid) {
+  if (!std::isfinite(v))
+    return 0x7ff8000000000001ULL;
+  return static_cast<uint64_t>(std::llround(v / grid));
+}
+
+// Keyword and position rounded to 0.1 mm (axis targets: axes rounded to 0.1), and with
+// `with_cl` the CL line. The key only decides which motions are paired; every pair is then
+// compared in full, and motions whose keys differ inside a run of mismatches are paired again.
+uint64_t motion_key(const Pose& p, bool with_cl) {
+  uint64_t h = std::hash<std::string>{}(p.keyword);
+  if (with_cl)
+    h = mix(h, static_cast<uint64_t>(p.m->cl_line));
+  if (p.cartesian) {
+    for (double c : p.xyz)
+      h = mix(h, rounded(c, 0.1));
+  } else {
+    for (int i = 0; i < 6; ++i)
+      h = mix(h, rounded(p.axes[i], 0.1));
+  }
+  return h;
+}
+
+// ---- Myers' O(ND) difference in linear space (the bisection of diff-match-patch) -------------
+
+enum class Op : uint8_t { match, del, ins };
+struct Step {
+  Op op;
+  uint32_t i;  // index in A (match, del)
+  uint32_t j;  // index in B (match, ins)
+};
+
+class Differ {
+ public:
+  Differ(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) : a_(a), b_(b) {}
+
+  std::vector<Step> run() {
+    struct Task {
+      bool emit_matches;
+      size_t a0, a1, b0, b1;
+    };
+    std::vector<Task> stack{{false, 0, a_.size(), 0, b_.size()}};
+    while (!stack.empty()) {
+      Task t = stack.back();
+      stack.pop_back();
+      if (t.emit_matches) {
+        for (size_t k = 0; k < t.a1 - t.a0; ++k)
+          out_.push_back({Op::match, u32(t.a0 + k), u32(t.b0 + k)});
+        continue;
+      }
+      // Common prefix, then common suffix (emitted after the middle).
+      while (t.a0 < t.a1 && t.b0 < t.b1 && a_[t.a0] == b_[t.b0]) {
+        out_.push_back({Op::match, u32(t.a0), u32(t.b0)});
+        ++t.a0;
+        ++t.b0;
+      }
+      size_t s = 0;
+      while (t.a1 - s > t.a0 && t.b1 - s > t.b0 && a_[t.a1 - s - 1] == b_[t.b1 - s - 1])
+        ++s;
+      if (s > 0)
+        stack.push_back({true, t.a1 - s, t.a1, t.b1 - s, t.b1});
+      t.a1 -= s;
+      t.b1 -= s;
+      if (t.a0 == t.a1 || t.b0 == t.b1) {
+        emit_mismatch(t.a0, t.a1, t.b0, t.b1);
+        continue;
+      }
+      size_t x = 0, y = 0;
+      if (!bisect(t.a0, t.a1, t.b0, t.b1, x, y)) {
+        emit_mismatch(t.a0, t.a1, t.b0, t.b1);
+        continue;
+      }
+      stack.push_back({false, t.a0 + x, t.a1, t.b0 + y, t.b1});
+      stack.push_back({false, t.a0, t.a0 + x, t.b0, t.b0 + y});
+    }
+    return std::move(out_);
+  }
+
+ private:
+  static uint32_t u32(size_t v) { return static_cast<uint32_t>(v); }
+
+  void emit_mismatch(size_t a0, size_t a1, size_t b0, size_t b1) {
+    for (size_t i = a0; i < a1; ++i)
+      out_.push_back({Op::del, u32(i), 0});
+    for (size_t j = b0; j < b1; ++j)
+      out_.push_back({Op::ins, 0, u32(j)});
+  }
+
+  // The middle snake of a[a0, a1) against b[b0, b1): a split point (x, y) of an optimal path.
+  // False when none is found within the work budget (the region is then left unaligned).
+  bool bisect(size_t a0, size_t a1, size_t b0, size_t b1, size_t& split_x, size_t& split_y) {
+    const long n = static_cast<long>(a1 - a0), m = static_cast<long>(b1 - b0);
+    const long max_d = (n + m + 1) / 2;
+    const long offset = max_d, length = 2 * max_d + 2;
+    std::vector<long> v1(static_cast<size_t>(length), -1), v2(static_cast<size_t>(length), -1);
+    v1[static_cast<size_t>(offset + 1)] = 0;
+    v2[static_cast<size_t>(offset + 1)] = 0;
+    const long delta = n - m;
+    const bool front = (delta % 2) != 0;
+    long k1start = 0, k1end = 0, k2start = 0, k2end = 0;
+    auto A = [&](long i) { return a_[a0 + static_cast<size_t>(i)]; };
+    auto B = [&](long j) { return b_[b0 + static_cast<size_t>(j)]; };
+    for (long d = 0; d < max_d; ++d) {
+      // Work budget: about (n + m) per d; give up on hopeless regions (docs/krl-diff.md).
+      work_ += static_cast<double>(2 * d + 2);
+      if (work_ > kMaxWork)
+        return false;
+      for (long k1 = -d + k1start; k1 <= d - k1end; k1 += 2) {
+        const long k1o = offset + k1;
+        long x1 =
+            (k1 == -d || (k1 != d && v1[k1o - 1] < v1[k1o + 1])) ? v1[k1o + 1] : v1[k1o - 1] + 1;
+        long y1 = x1 - k1;
+        const long start1 = x1;
+        while (x1 < n && y1 < m && A(x1) == B(y1)) {
+          ++x1;
+          ++y1;
+        }
+        work_ += static_cast<double>(x1 - start1);
+        v1[k1o] = x1;
+        if (x1 > n) {
+          k1end += 2;
+        } else if (y1 > m) {
+          k1start += 2;
+        } else if (front) {
+          const long k2o = offset + delta - k1;
+          if (k2o >= 0 && k2o < length && v2[k2o] != -1 && x1 >= n - v2[k2o]) {
+            split_x = static_cast<size_t>(x1);
+            split_y = static_cast<size_t>(y1);
+            return true;
+          }
+        }
+      }
+      for (long k2 = -d + k2start; k2 <= d - k2end; k2 += 2) {
+        const long k2o = offset + k2;
+        long x2 =
+            (k2 == -d || (k2 != d && v2[k2o - 1] < v2[k2o + 1])) ? v2[k2o + 1] : v2[k2o - 1] + 1;
+        long y2 = x2 - k2;
+        const long start2 = x2;
+        while (x2 < n && y2 < m && A(n - x2 - 1) == B(m - y2 - 1)) {
+          ++x2;
+          ++y2;
+        }
+        work_ += static_cast<double>(x2 - start2);
+        v2[k2o] = x2;
+        if (x2 > n) {
+          k2end += 2;
+        } else if (y2 > m) {
+          k2start += 2;
+        } else if (!front) {
+          const long k1o = offset + delta - k2;
+          if (k1o >= 0 && k1o < length && v1[k1o] != -1) {
+            const long x1 = v1[k1o];
+            const long y1 = offset + x1 - k1o;
+            if (x1 >= n - x2) {
+              split_x = static_cast<size_t>(x1);
+              split_y = static_cast<size_t>(y1);
+              return true;
+            }
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+  static constexpr double kMaxWork = 4e8;
+  const std::vector<uint64_t>& a_;
+  const std::vector<uint64_t>& b_;
+  std::vector<Step> out_;
+  double work_ = 0.0;
+};
+
+// ---- comparison ------------------------------------------------------------------------------
+
+double dist3(const std::array<double, 3>& p, const std::array<double, 3>& q) {
+  return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                   (p[2] - q[2]) * (p[2] - q[2]));
+}
+
+bool finite3(const std::array<double, 3>& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+double orientation_deviation_deg(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  if (a == b)
+    return 0.0;
+  const Eigen::Matrix3d Ra = rotation_from_abc({a[0], a[1], a[2]});
+  const Eigen::Matrix3d Rb = rotation_from_abc({b[0], b[1], b[2]});
+  const Eigen::Matrix3d R = Ra.transpose() * Rb;
+  const double angle = Eigen::AngleAxisd(R).angle() * 180.0 / kPi;
+  return std::abs(angle) < kAngleNoiseDeg ? 0.0 : std::abs(angle);
+}
+
+std::string bits(int v) {
+  std::string s;
+  for (int b = 5; b >= 0; --b)
+    s += ((v >> b) & 1) ? '1' : '0';
+  return "'B" + s + "'";
+}
+
+class Comparer {
+ public:
+  Comparer(const KrlDiffOptions& o, KrlDiffResult& r) : opt_(o), r_(r) {}
+
+  void pair(const Pose& a, const Pose& b) {
+    ++r_.compared;
+    std::vector<KrlDeviation> over;
+    auto measure = [&](KrlQuantity q, double value, double tol, std::string detail = {}) {
+      KrlQuantityStats& s = r_.statistics[static_cast<size_t>(q)];
+      ++s.compared;
+      s.sum += value;
+      s.max = std::max(s.max, value);
+      if (value > tol) {
+        ++s.over_tolerance;
+        over.push_back({q, value, std::move(detail)});
+      }
+    };
+    measure(KrlQuantity::keyword, a.keyword == b.keyword ? 0.0 : 1.0, 0.0,
+            a.keyword == b.keyword ? "" : "A " + a.keyword + ", B " + b.keyword);
+    if (a.cartesian != b.cartesian || a.axis != b.axis) {
+      auto kind = [](const Pose& p) {
+        return p.cartesian ? "Cartesian" : p.axis ? "axis" : "other";
+      };
+      measure(KrlQuantity::target_kind, 1.0, 0.0, std::string("A ") + kind(a) + ", B " + kind(b));
+    }
+    if (a.cartesian && b.cartesian) {
+      if (finite3(a.xyz) && finite3(b.xyz))
+        measure(KrlQuantity::position, dist3(a.xyz, b.xyz), opt_.pos_tol_mm);
+      if (finite3(a.abc) && finite3(b.abc))
+        measure(KrlQuantity::orientation, orientation_deviation_deg(a.abc, b.abc),
+                opt_.ang_tol_deg);
+    }
+    if (a.has_aux && b.has_aux && finite3(a.aux) && finite3(b.aux))
+      measure(KrlQuantity::aux_position, dist3(a.aux, b.aux), opt_.pos_tol_mm);
+    for (int i = 0; i < 12; ++i) {
+      const double va = a.axes[static_cast<size_t>(i)], vb = b.axes[static_cast<size_t>(i)];
+      if (std::isfinite(va) && std::isfinite(vb))
+        measure(static_cast<KrlQuantity>(static_cast<int>(KrlQuantity::A1) + i), std::abs(va - vb),
+                opt_.axis_tol);
+    }
+    if (a.status && b.status)
+      measure(KrlQuantity::status, *a.status == *b.status ? 0.0 : 1.0, 0.0,
+              *a.status == *b.status ? "" : "A " + bits(*a.status) + ", B " + bits(*b.status));
+    if (a.turn && b.turn)
+      measure(KrlQuantity::turn, *a.turn == *b.turn ? 0.0 : 1.0, 0.0,
+              *a.turn == *b.turn ? "" : "A " + bits(*a.turn) + ", B " + bits(*b.turn));
+    if (over.empty()) {
+      last_ = KrlDifference::Kind::changed;
+      run_open_ = false;
+      return;
+    }
+    ++r_.changed;
+    KrlDifference d;
+    d.kind = KrlDifference::Kind::changed;
+    d.file_a = a.m->file;
+    d.line_a = d.last_line_a = a.m->line;
+    d.file_b = b.m->file;
+    d.line_b = d.last_line_b = b.m->line;
+    d.keyword_a = a.keyword;
+    d.keyword_b = b.keyword;
+    d.deviations = std::move(over);
+    add(std::move(d));
+    run_open_ = false;
+  }
+
+  void only(const Pose& p, bool in_b) {
+    const auto kind = in_b ? KrlDifference::Kind::inserted : KrlDifference::Kind::removed;
+    (in_b ? r_.inserted : r_.removed) += 1;
+    if (run_open_ && last_ == kind) {
+      if (run_shown_) {
+        KrlDifference& d = r_.differences.back();
+        ++d.count;
+        (in_b ? d.last_line_b : d.last_line_a) = p.m->line;
+      }
+      return;
+    }
+    KrlDifference d;
+    d.kind = kind;
+    if (in_b) {
+      d.file_b = p.m->file;
+      d.line_b = d.last_line_b = p.m->line;
+      d.keyword_b = p.keyword;
+    } else {
+      d.file_a = p.m->file;
+      d.line_a = d.last_line_a = p.m->line;
+      d.keyword_a = p.keyword;
+    }
+    run_shown_ = add(std::move(d));
+    run_open_ = true;
+    last_ = kind;
+  }
+
+ private:
+  bool add(KrlDifference d) {
+    ++r_.difference_count;
+    if (r_.differences.size() >= opt_.max_shown)
+      return false;
+    r_.differences.push_back(std::move(d));
+    return true;
+  }
+
+  const KrlDiffOptions& opt_;
+  KrlDiffResult& r_;
+  KrlDifference::Kind last_ = KrlDifference::Kind::changed;
+  bool run_open_ = false, run_shown_ = false;
+};
+
+double pose_distance(const Pose& a, const Pose& b) {
+  if (a.cartesian && b.cartesian && finite3(a.xyz) && finite3(b.xyz))
+    return dist3(a.xyz, b.xyz);
+  double s = 0.0;
+  for (int i = 0; i < 12; ++i) {
+    const double d = a.axes[static_cast<size_t>(i)] - b.axes[static_cast<size_t>(i)];
+    if (std::isfinite(d))
+      s += d * d;
+  }
+  return std::sqrt(s) + (a.keyword == b.keyword ? 0.0 : 1e6);
+}
+
+// A run of unmatched motions (dels from A, ins into B) between two matches: motions are paired
+// again (by CL line when aligning by CL lines, else in order, at the offset that keeps the
+// paired positions closest); the rest are removals or insertions.
+void flush_hunk(const std::vector<Pose>& pa, const std::vector<Pose>& pb,
+                const std::vector<uint32_t>& dels, const std::vector<uint32_t>& ins, bool by_cl,
+                Comparer& cmp) {
+  if (by_cl) {
+    size_t i = 0, j = 0;
+    while (i < dels.size() || j < ins.size()) {
+      if (j == ins.size()) {
+        cmp.only(pa[dels[i++]], false);
+      } else if (i == dels.size()) {
+        cmp.only(pb[ins[j++]], true);
+      } else {
+        const int ca = pa[dels[i]].m->cl_line, cb = pb[ins[j]].m->cl_line;
+        if (ca == cb) {
+          // Same CL line: pair in order, the surplus of either side is inserted/removed.
+          size_t ie = i, je = j;
+          while (ie < dels.size() && pa[dels[ie]].m->cl_line == ca)
+            ++ie;
+          while (je < ins.size() && pb[ins[je]].m->cl_line == cb)
+            ++je;
+          std::vector<uint32_t> da(dels.begin() + static_cast<long>(i),
+                                   dels.begin() + static_cast<long>(ie));
+          std::vector<uint32_t> ib(ins.begin() + static_cast<long>(j),
+                                   ins.begin() + static_cast<long>(je));
+          flush_hunk(pa, pb, da, ib, false, cmp);
+          i = ie;
+          j = je;
+        } else if (ca < cb) {
+          cmp.only(pa[dels[i++]], false);
+        } else {
+          cmp.only(pb[ins[j++]], true);
+        }
+      }
+    }
+    return;
+  }
+  const size_t na = dels.size(), nb = ins.size(), k = std::min(na, nb);
+  size_t best = 0;
+  const size_t spread = std::max(na, nb) - k;
+  if (k > 0 && spread > 0 && static_cast<double>(spread) * static_cast<double>(k) < 1e7) {
+    double best_cost = std::numeric_limits<double>::infinity();
+    for (size_t s = 0; s <= spread; ++s) {
+      double cost = 0.0;
+      for (size_t t = 0; t < k; ++t)
+        cost += na < nb ? pose_distance(pa[dels[t]], pb[ins[t + s]])
+                        : pose_distance(pa[dels[t + s]], pb[ins[t]]);
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = s;
+      }
+    }
+  }
+  const bool b_longer = nb > na;
+  for (size_t t = 0; t < best; ++t) {
+    if (b_longer)
+      cmp.only(pb[ins[t]], true);
+    else
+      cmp.only(pa[dels[t]], false);
+  }
+  for (size_t t = 0; t < k; ++t)
+    cmp.pair(pa[dels[b_longer ? t : t + best]], pb[ins[b_longer ? t + best : t]]);
+  for (size_t t = best + k; t < std::max(na, nb); ++t) {
+    if (b_longer)
+      cmp.only(pb[ins[t]], true);
+    else
+      cmp.only(pa[dels[t]], false);
+  }
+}
+
+bool has_cl_lines(const KrlProgram& p) {
+  return std::any_of(p.motions.begin(), p.motions.end(),
+                     [](const KrlMotionRecord& m) { return m.cl_line > 0; });
+}
+
+void merge(KrlDiffResult& total, const KrlDiffResult& r, const KrlDiffOptions& o) {
+  total.equal = total.equal && r.equal;
+  total.motions_a += r.motions_a;
+  total.motions_b += r.motions_b;
+  total.compared += r.compared;
+  total.changed += r.changed;
+  total.inserted += r.inserted;
+  total.removed += r.removed;
+  total.difference_count += r.difference_count;
+  total.aligned_by_cl_line = total.aligned_by_cl_line || r.aligned_by_cl_line;
+  for (const KrlDifference& d : r.differences)
+    if (total.differences.size() < o.max_shown)
+      total.differences.push_back(d);
+  for (size_t q = 0; q < total.statistics.size(); ++q) {
+    KrlQuantityStats& t = total.statistics[q];
+    const KrlQuantityStats& s = r.statistics[q];
+    t.compared += s.compared;
+    t.over_tolerance += s.over_tolerance;
+    t.sum += s.sum;
+    t.max = std::max(t.max, s.max);
+  }
+}
+
+bool is_src(const fs::path& p) {
+  return upper(p.extension().string()) == ".SRC";
+}
+
+bool ident_start(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == '$';
+}
+bool ident_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';
+}
+
+// Names called as subprograms in a .src: statements of the form NAME( ... ).
+std::set<std::string> called_names(const std::string& text) {
+  static const std::set<std::string> keywords = {
+      "IF",     "WHILE", "FOR",    "REPEAT", "UNTIL",     "SWITCH",  "WAIT",
+      "RETURN", "DEF",   "DEFFCT", "GLOBAL", "INTERRUPT", "TRIGGER", "ANIN",
+      "ANOUT",  "EXT",   "EXTFCT", "DECL",   "ELSE"};
+  std::set<std::string> out;
+  size_t pos = 0;
+  while (pos < text.size()) {
+    size_t eol = text.find('\n', pos);
+    if (eol == std::string::npos)
+      eol = text.size();
+    size_t i = pos;
+    while (i < eol && (text[i] == ' ' || text[i] == '\t'))
+      ++i;
+    if (i < eol && ident_start(text[i])) {
+      size_t j = i;
+      while (j < eol && ident_char(text[j]))
+        ++j;
+      size_t k = j;
+      while (k < eol && (text[k] == ' ' || text[k] == '\t'))
+        ++k;
+      if (k < eol && text[k] == '(') {
+        std::string name = upper(text.substr(i, j - i));
+        if (!keywords.count(name))
+          out.insert(name);
+      }
+    }
+    pos = eol + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> krl_main_programs(const std::string& directory) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->is_regular_file() && is_src(it->path()))
+      files.push_back(it->path());
+  }
+  if (ec)
+    throw Error(ErrorCode::io, "cannot list the directory: " + ec.message(),
+                SourceLocation{directory, 0, 0});
+  std::set<std::string> called;
+  for (const fs::path& f : files) {
+    const std::string self = upper(f.stem().string());
+    for (const std::string& n : called_names(read_text_file(f.string())))
+      if (n != self)
+        called.insert(n);
+  }
+  std::vector<std::string> out;
+  for (const fs::path& f : files)
+    if (!called.count(upper(f.stem().string())))
+      out.push_back(f.string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
+                                const KrlDiffOptions& options) {
+  KrlDiffResult r;
+  const std::vector<Pose> pa = complete_poses(a), pb = complete_poses(b);
+  r.motions_a = pa.size();
+  r.motions_b = pb.size();
+  const bool by_cl = has_cl_lines(a) && has_cl_lines(b);
+  r.aligned_by_cl_line = by_cl;
+  std::vector<uint64_t> ka(pa.size()), kb(pb.size());
+  for (size_t i = 0; i < pa.size(); ++i)
+    ka[i] = motion_key(pa[i], by_cl);
+  for (size_t j = 0; j < pb.size(); ++j)
+    kb[j] = motion_key(pb[j], by_cl);
+  std::vector<Step> steps = Differ(ka, kb).run();
+  ka = {};
+  kb = {};
+
+  Comparer cmp(options, r);
+  std::vector<uint32_t> dels, ins;
+  for (const Step& s : steps) {
+    if (s.op == Op::match) {
+      if (!dels.empty() || !ins.empty()) {
+        flush_hunk(pa, pb, dels, ins, by_cl, cmp);
+        dels.clear();
+        ins.clear();
+      }
+      cmp.pair(pa[s.i], pb[s.j]);
+    } else if (s.op == Op::del) {
+      dels.push_back(s.i);
+    } else {
+      ins.push_back(s.j);
+    }
+  }
+  if (!dels.empty() || !ins.empty())
+    flush_hunk(pa, pb, dels, ins, by_cl, cmp);
+  r.equal = r.difference_count == 0;
+  return r;
+}
+
+KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_b,
+                             const KrlDiffOptions& options) {
+  std::error_code ec;
+  const bool dir_a = fs::is_directory(path_a, ec), dir_b = fs::is_directory(path_b, ec);
+  if (dir_a != dir_b)
+    throw Error(ErrorCode::bad_input,
+                "cannot compare a directory with a file: '" + path_a + "' and '" + path_b + "'");
+  if (!dir_a)
+    return diff_krl_programs(read_krl_program(path_a), read_krl_program(path_b), options);
+
+  std::map<std::string, std::string> ma, mb;
+  for (const std::string& p : krl_main_programs(path_a))
+    ma[upper(fs::path(p).filename().string())] = p;
+  for (const std::string& p : krl_main_programs(path_b))
+    mb[upper(fs::path(p).filename().string())] = p;
+  KrlDiffResult total;
+  for (const auto& [name, pa] : ma) {
+    auto it = mb.find(name);
+    if (it == mb.end()) {
+      total.unmatched.push_back("only in A: " + pa);
+      continue;
+    }
+    merge(total, diff_krl_programs(read_krl_program(pa), read_krl_program(it->second), options),
+          options);
+  }
+  for (const auto& [name, pb] : mb)
+    if (!ma.count(name))
+      total.unmatched.push_back("only in B: " + pb);
+  if (!total.unmatched.empty())
+    total.equal = false;
+  return total;
+}
+
+// ---- reports ---------------------------------------------------------------------------------
+
+namespace {
+
+std::string num(double v) {
+  if (!std::isfinite(v))
+    return "nan";
+  if (v == 0.0)
+    v = 0.0;
+  return fmt::format("{:.6g}", v);
+}
+
+std::string tolerance_of(KrlQuantity q, const KrlDiffOptions& o) {
+  switch (q) {
+    case KrlQuantity::position:
+    case KrlQuantity::aux_position:
+      return num(o.pos_tol_mm);
+    case KrlQuantity::orientation:
+      return num(o.ang_tol_deg);
+    case KrlQuantity::status:
+    case KrlQuantity::turn:
+    case KrlQuantity::keyword:
+    case KrlQuantity::target_kind:
+      return "exact";
+    default:
+      return num(o.axis_tol);
+  }
+}
+
+std::string where(const std::string& file, int line, int last_line) {
+  if (last_line != line && last_line != 0)
+    return fmt::format("{}:{}-{}", file, line, last_line);
+  return fmt::format("{}:{}", file, line);
+}
+
+std::string deviation_text(const KrlDeviation& d) {
+  const std::string name = krl_quantity_name(d.quantity);
+  if (!d.detail.empty())
+    return name + " " + d.detail;
+  const std::string unit = krl_quantity_unit(d.quantity);
+  return name + " " + num(d.value) + (unit == "axis" ? "" : " " + unit);
+}
+
+void json_string(std::string& out, const std::string& s) {
+  out += '"';
+  for (char ch : s) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      default:
+        if (c < 0x20)
+          out += fmt::format("\\u{:04x}", c);
+        else
+          out += ch;
+    }
+  }
+  out += '"';
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v))
+    return "null";
+  if (v == 0.0)
+    v = 0.0;
+  return fmt::format("{:.9g}", v);
+}
+
+}  // namespace
+
+std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o) {
+  std::string out;
+  for (const std::string& u : r.unmatched)
+    out += u + "\n";
+  size_t n = 0;
+  for (const KrlDifference& d : r.differences) {
+    ++n;
+    switch (d.kind) {
+      case KrlDifference::Kind::changed: {
+        out += fmt::format("{} <-> {}: {} / {}:", where(d.file_a, d.line_a, 0),
+                           where(d.file_b, d.line_b, 0), d.keyword_a, d.keyword_b);
+        for (size_t i = 0; i < d.deviations.size(); ++i)
+          out += (i ? ", " : " ") + deviation_text(d.deviations[i]);
+        out += "\n";
+        break;
+      }
+      case KrlDifference::Kind::inserted:
+        out += fmt::format("{}: inserted in B: {} motion{} ({} ...)\n",
+                           where(d.file_b, d.line_b, d.last_line_b), d.count,
+                           d.count == 1 ? "" : "s", d.keyword_b);
+        break;
+      case KrlDifference::Kind::removed:
+        out += fmt::format("{}: removed from A: {} motion{} ({} ...)\n",
+                           where(d.file_a, d.line_a, d.last_line_a), d.count,
+                           d.count == 1 ? "" : "s", d.keyword_a);
+        break;
+    }
+  }
+  if (r.difference_count > r.differences.size())
+    out += fmt::format("... {} more difference(s) not shown (--max-shown)\n",
+                       r.difference_count - r.differences.size());
+  out += fmt::format(
+      "{}: {} motions in A, {} in B, {} compared ({}), {} changed, {} inserted, {} removed\n",
+      r.equal ? "equal" : "different", r.motions_a, r.motions_b, r.compared,
+      r.aligned_by_cl_line ? "aligned by CL line" : "aligned by position", r.changed, r.inserted,
+      r.removed);
+  out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "quantity", "compared",
+                     "over tol", "max", "mean", "tolerance");
+  for (int q = 0; q < kKrlQuantityCount; ++q) {
+    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
+    if (s.compared == 0)
+      continue;
+    out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n",
+                       krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
+                       num(s.max), num(s.mean()), tolerance_of(static_cast<KrlQuantity>(q), o));
+  }
+  return out;
+}
+
+std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o) {
+  std::string out = "{";
+  out += fmt::format(
+      "\"equal\": {}, \"motions_a\": {}, \"motions_b\": {}, \"compared\": {}, \"changed\": {}, "
+      "\"inserted\": {}, \"removed\": {}, \"difference_count\": {}, \"aligned_by\": \"{}\", ",
+      r.equal ? "true" : "false", r.motions_a, r.motions_b, r.compared, r.changed, r.inserted,
+      r.removed, r.difference_count, r.aligned_by_cl_line ? "cl_line" : "position");
+  out += fmt::format(
+      "\"tolerances\": {{\"position_mm\": {}, \"orientation_deg\": {}, \"axis\": {}}}, ",
+      json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol));
+  out += "\"unmatched\": [";
+  for (size_t i = 0; i < r.unmatched.size(); ++i) {
+    if (i)
+      out += ", ";
+    json_string(out, r.unmatched[i]);
+  }
+  out += "], \"differences\": [";
+  auto side = [&](const char* key, const std::string& file, int line, int last,
+                  const std::string& kw) {
+    out += fmt::format("\"{}\": {{\"file\": ", key);
+    json_string(out, file);
+    out += fmt::format(", \"line\": {}, \"last_line\": {}, \"keyword\": ", line, last);
+    json_string(out, kw);
+    out += "}";
+  };
+  for (size_t i = 0; i < r.differences.size(); ++i) {
+    const KrlDifference& d = r.differences[i];
+    if (i)
+      out += ", ";
+    const char* kind = d.kind == KrlDifference::Kind::changed    ? "changed"
+                       : d.kind == KrlDifference::Kind::inserted ? "inserted"
+                                                                 : "removed";
+    out += fmt::format("{{\"kind\": \"{}\", \"count\": {}, ", kind, d.count);
+    if (d.kind != KrlDifference::Kind::inserted) {
+      side("a", d.file_a, d.line_a, d.last_line_a, d.keyword_a);
+      out += ", ";
+    }
+    if (d.kind != KrlDifference::Kind::removed) {
+      side("b", d.file_b, d.line_b, d.last_line_b, d.keyword_b);
+      out += ", ";
+    }
+    out += "\"deviations\": [";
+    for (size_t k = 0; k < d.deviations.size(); ++k) {
+      const KrlDeviation& v = d.deviations[k];
+      if (k)
+        out += ", ";
+      out += fmt::format("{{\"quantity\": \"{}\", \"value\": {}, \"unit\": \"{}\", \"detail\": ",
+                         krl_quantity_name(v.quantity), json_number(v.value),
+                         krl_quantity_unit(v.quantity));
+      json_string(out, v.detail);
+      out += "}";
+    }
+    out += "]}";
+  }
+  out += "], \"statistics\": {";
+  bool first = true;
+  for (int q = 0; q < kKrlQuantityCount; ++q) {
+    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
+    if (s.compared == 0)
+      continue;
+    if (!first)
+      out += ", ";
+    first = false;
+    out += fmt::format(
+        "\"{}\": {{\"compared\": {}, \"over_tolerance\": {}, \"max\": {}, \"mean\": {}, "
+        "\"unit\": \"{}\"}}",
+        krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
+        json_number(s.max), json_number(s.mean()), krl_quantity_unit(static_cast<KrlQuantity>(q)));
+  }
+  out += "}}\n";
+  return out;
+}
+
+}  // namespace redpost

@@ -1,0 +1,502 @@
+#include "redpost/krl/template.hpp"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <iterator>
+#include <map>
+#include <set>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "io/strict_xml.hpp"
+#include "krl/format.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+
+namespace redpost {
+
+// ---------------------------------------------------------------------------------------------
+// krl_format.hpp: shared with the writer.
+namespace krl {
+
+namespace {
+constexpr std::array<std::string_view, static_cast<size_t>(Ph::count_)> kPlaceholderNames = {
+    "name",   "program", "base",      "tool",  "apo_mm",    "header_comment",
+    "date",   "body",    "decls",     "x",     "y",         "z",
+    "a",      "b",       "c",         "a1",    "a2",        "a3",
+    "a4",     "a5",      "a6",        "e1",    "e2",        "e3",
+    "e4",     "e5",      "e6",        "ext",   "s",         "t",
+    "s_bits", "t_bits",  "n",         "value", "vel",       "text",
+    "line",   "number",  "tool_name", "rpm",   "direction", "clockwise",
+    "mode",   "callee"};
+
+constexpr PhMask kArmAxes =
+    bit(Ph::a1) | bit(Ph::a2) | bit(Ph::a3) | bit(Ph::a4) | bit(Ph::a5) | bit(Ph::a6);
+constexpr PhMask kExternal = bit(Ph::e1) | bit(Ph::e2) | bit(Ph::e3) | bit(Ph::e4) | bit(Ph::e5) |
+                             bit(Ph::e6) | bit(Ph::ext);
+constexpr PhMask kCartesian =
+    bit(Ph::x) | bit(Ph::y) | bit(Ph::z) | bit(Ph::a) | bit(Ph::b) | bit(Ph::c) | kExternal;
+constexpr PhMask kStatusTurn = bit(Ph::s) | bit(Ph::t) | bit(Ph::s_bits) | bit(Ph::t_bits);
+constexpr PhMask kSkeleton =
+    bit(Ph::name) | bit(Ph::program) | bit(Ph::header_comment) | bit(Ph::date);
+constexpr PhMask kProgram = kSkeleton | bit(Ph::base) | bit(Ph::tool) | bit(Ph::apo_mm);
+
+bool is_ident_start(char ch) {
+  return ch >= 'a' && ch <= 'z';
+}
+bool is_ident_char(char ch) {
+  return is_ident_start(ch) || (ch >= '0' && ch <= '9') || ch == '_';
+}
+}  // namespace
+
+std::string_view placeholder_name(Ph p) {
+  return kPlaceholderNames[static_cast<size_t>(p)];
+}
+
+Ph placeholder_from_name(std::string_view name) {
+  for (size_t i = 0; i < kPlaceholderNames.size(); ++i) {
+    if (kPlaceholderNames[i] == name)
+      return static_cast<Ph>(i);
+  }
+  return Ph::count_;
+}
+
+const std::vector<StatementSpec>& statement_specs() {
+  static const std::vector<StatementSpec> specs = {
+      {"ptp_axes", kArmAxes | kExternal, StatementUse::always},
+      {"rapid", kArmAxes | kCartesian | kStatusTurn, StatementUse::always},
+      {"lin", kCartesian, StatementUse::no_spline_only},
+      {"ext_axis", bit(Ph::n) | bit(Ph::value), StatementUse::always},
+      {"vel", bit(Ph::vel), StatementUse::always},
+      {"comment", bit(Ph::text), StatementUse::always},
+      {"cl_line", bit(Ph::line), StatementUse::always},
+      {"tool_change", bit(Ph::number) | bit(Ph::tool_name), StatementUse::always},
+      {"spindle_on", bit(Ph::rpm) | bit(Ph::direction) | bit(Ph::clockwise), StatementUse::always},
+      {"spindle_off", 0, StatementUse::always},
+      {"coolant_on", bit(Ph::mode), StatementUse::always},
+      {"coolant_off", bit(Ph::mode), StatementUse::always},
+      {"literal", bit(Ph::text), StatementUse::always},
+      {"call", bit(Ph::callee), StatementUse::always},
+      {"call_decl", bit(Ph::callee), StatementUse::always},
+      {"spline_begin", 0, StatementUse::spline_only},
+      {"spline_lin", kCartesian, StatementUse::spline_only},
+      {"spline_end", 0, StatementUse::spline_only},
+  };
+  return specs;
+}
+
+const StatementSpec* find_statement(std::string_view name) {
+  for (const StatementSpec& s : statement_specs()) {
+    if (s.name == name)
+      return &s;
+  }
+  return nullptr;
+}
+
+const std::vector<SkeletonSpec>& skeleton_specs() {
+  static const std::vector<SkeletonSpec> specs = {
+      {"src", SkeletonKind::src, kProgram | bit(Ph::body), true},
+      {"dat", SkeletonKind::dat, kSkeleton, false},
+      {"main_src", SkeletonKind::main_src, kProgram | bit(Ph::body) | bit(Ph::decls), true},
+      {"main_dat", SkeletonKind::main_dat, kSkeleton, false},
+  };
+  return specs;
+}
+
+const SkeletonSpec* find_skeleton(std::string_view kind) {
+  for (const SkeletonSpec& s : skeleton_specs()) {
+    if (s.kind == kind)
+      return &s;
+  }
+  return nullptr;
+}
+
+std::vector<PlaceholderUse> scan_placeholders(std::string_view text) {
+  std::vector<PlaceholderUse> out;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '{' || i + 1 >= text.size() || !is_ident_start(text[i + 1]))
+      continue;
+    size_t j = i + 1;
+    while (j < text.size() && is_ident_char(text[j]))
+      ++j;
+    if (j < text.size() && text[j] == '}') {
+      const std::string_view name = text.substr(i + 1, j - i - 1);
+      out.push_back({placeholder_from_name(name), name, i});
+      i = j;
+    }
+  }
+  return out;
+}
+
+Compiled compile(std::string_view text) {
+  Compiled c;
+  size_t pos = 0;
+  for (const PlaceholderUse& u : scan_placeholders(text)) {
+    if (u.ph == Ph::count_)
+      continue;  // refused by the checks before; never silently dropped
+    c.pieces.push_back({std::string(text.substr(pos, u.offset - pos)), u.ph});
+    c.used |= bit(u.ph);
+    pos = u.offset + u.name.size() + 2;
+  }
+  c.pieces.push_back({std::string(text.substr(pos)), Ph::count_});
+  return c;
+}
+
+void append_fixed(std::string& out, double value, int decimals, std::string_view what) {
+  if (!std::isfinite(value)) {
+    throw Error(ErrorCode::internal,
+                fmt::format("KRL output: {} is {}, not a number that can be written", what,
+                            std::isnan(value) ? "NaN" : "infinite"));
+  }
+  // std::to_chars ignores every locale ('.' always), rounds exactly, and costs a fraction of a
+  // formatted write (this runs a dozen times per motion).
+  const size_t start = out.size();
+  char buf[64];
+  const auto [end, ec] =
+      std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
+  if (ec != std::errc()) {
+    fmt::format_to(std::back_inserter(out), "{:.{}f}", value, decimals);  // beyond 64 digits
+  } else {
+    out.append(buf, end);
+  }
+  // A value that rounds to zero keeps its sign in printf-style output ("-0.000"); KRL readers
+  // and diff tools should see one zero.
+  if (out[start] == '-' && out.find_first_not_of("0.", start + 1) == std::string::npos) {
+    out.erase(start, 1);
+  }
+}
+
+std::string identifier_problem(std::string_view name) {
+  if (name.empty())
+    return "is empty";
+  const auto letter = [](char ch) { return (ch >= 'A' && ch <= 'Z') || (ch >= 'a' && ch <= 'z'); };
+  if (!letter(name[0]))
+    return "must start with a letter (A-Z)";
+  for (char ch : name) {
+    if (!letter(ch) && !(ch >= '0' && ch <= '9') && ch != '_')
+      return "may contain only letters A-Z, digits and '_'";
+  }
+  if (name.size() > kMaxIdentifierLength) {
+    return fmt::format("has {} characters; KRL allows at most {}", name.size(),
+                       kMaxIdentifierLength);
+  }
+  // A program named like a KRL keyword would not compile on the controller.
+  static const char* const kReserved[] = {
+      "AND",     "ANIN",    "ANOUT",  "B_AND",  "B_EXOR",   "B_NOT",     "B_OR",      "BOOL",
+      "BRAKE",   "CASE",    "CHAR",   "CIRC",   "CIRC_REL", "CONST",     "CONTINUE",  "DECL",
+      "DEF",     "DEFAULT", "DEFDAT", "DEFFCT", "DELAY",    "DO",        "ELSE",      "END",
+      "ENDDAT",  "ENDFCT",  "ENDFOR", "ENDIF",  "ENDLOOP",  "ENDSPLINE", "ENDSWITCH", "ENDWHILE",
+      "ENUM",    "EXIT",    "EXOR",   "EXT",    "EXTFCT",   "FALSE",     "FOR",       "GLOBAL",
+      "GOTO",    "HALT",    "IF",     "IMPORT", "INT",      "INTERRUPT", "IS",        "LIN",
+      "LIN_REL", "LOOP",    "NOT",    "OR",     "PRIO",     "PTP",       "PTP_REL",   "PUBLIC",
+      "REAL",    "REPEAT",  "RESUME", "RETURN", "SCIRC",    "SEC",       "SIGNAL",    "SLIN",
+      "SPL",     "SPLINE",  "SPTP",   "STRUC",  "SWITCH",   "THEN",      "TO",        "TRIGGER",
+      "TRUE",    "UNTIL",   "WAIT",   "WHEN",   "WHILE",    "WITH"};
+  std::string upper(name);
+  for (char& ch : upper)
+    ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  for (const char* r : kReserved) {
+    if (upper == r)
+      return "is a KRL keyword";
+  }
+  return {};
+}
+
+}  // namespace krl
+
+// ---------------------------------------------------------------------------------------------
+// The XML loader.
+namespace {
+
+using tinyxml2::XMLElement;
+using tinyxml2::XMLNode;
+
+class Reader : public detail::StrictXml {
+ public:
+  using StrictXml::StrictXml;
+
+  int integer(const XMLElement* e, const char* attr, int lo, int hi) const {
+    const std::string text = required(e, attr);
+    int v = 0;
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || ptr != text.data() + text.size() || v < lo || v > hi) {
+      fail(e, std::string("<") + e->Name() + "> attribute '" + attr + "' = \"" + text +
+                  "\": expected a whole number in " + std::to_string(lo) + ".." +
+                  std::to_string(hi));
+    }
+    return v;
+  }
+
+  // The text content of an element that holds text only (plain or CDATA), and the line on
+  // which that text starts.
+  std::string text_of(const XMLElement* e, int& line) const {
+    std::string out;
+    line = e->GetLineNum();
+    bool first = true;
+    for (const XMLNode* n = e->FirstChild(); n; n = n->NextSibling()) {
+      if (n->ToComment())
+        continue;
+      const tinyxml2::XMLText* t = n->ToText();
+      if (!t) {
+        fail(n->GetLineNum(),
+             std::string("<") + e->Name() + "> holds text only (use CDATA for text with < or &)");
+      }
+      if (!first) {
+        fail(n->GetLineNum(),
+             std::string("<") + e->Name() + "> must hold one piece of text (no comments inside)");
+      }
+      first = false;
+      line = t->GetLineNum();
+      out = t->Value() ? t->Value() : "";
+    }
+    return out;
+  }
+};
+
+std::string join_names(krl::PhMask allowed) {
+  std::string list;
+  for (int i = 0; i < static_cast<int>(krl::Ph::count_); ++i) {
+    if (allowed & (krl::PhMask{1} << i))
+      list += (list.empty() ? "{" : ", {") + std::string(krl::placeholder_name(krl::Ph(i))) + "}";
+  }
+  return list.empty() ? "none" : list;
+}
+
+int line_at(std::string_view text, size_t offset, int first_line) {
+  int line = first_line;
+  for (size_t i = 0; i < offset && i < text.size(); ++i)
+    line += text[i] == '\n';
+  return line;
+}
+
+// Refuses a placeholder that is unknown or not allowed here, with the line it is on.
+void check_placeholders(const Reader& r, std::string_view text, int first_line, krl::PhMask allowed,
+                        const std::string& where) {
+  for (const krl::PlaceholderUse& u : krl::scan_placeholders(text)) {
+    if (u.ph != krl::Ph::count_ && (allowed & krl::bit(u.ph)))
+      continue;
+    r.fail(line_at(text, u.offset, first_line),
+           std::string(u.ph == krl::Ph::count_ ? "unknown placeholder {" : "placeholder {") +
+               std::string(u.name) + "} " +
+               (u.ph == krl::Ph::count_ ? "in " : "is not allowed in ") + where +
+               " (allowed: " + join_names(allowed) + ")");
+  }
+}
+
+bool blank(std::string_view s) {
+  return s.find_first_not_of(" \t\r") == std::string_view::npos;
+}
+
+// A skeleton as written between <file> and </file>: the line break after the opening tag (or
+// CDATA marker) and trailing blank lines are layout, not content.
+std::string clean_skeleton(std::string_view raw, int& first_line) {
+  const size_t nl = raw.find('\n');
+  if (nl != std::string_view::npos && blank(raw.substr(0, nl))) {
+    raw.remove_prefix(nl + 1);
+    ++first_line;
+  }
+  while (!raw.empty()) {
+    const size_t last_nl = raw.rfind('\n');
+    const std::string_view tail = last_nl == std::string_view::npos ? raw : raw.substr(last_nl + 1);
+    if (!blank(tail))
+      break;
+    raw = last_nl == std::string_view::npos ? std::string_view() : raw.substr(0, last_nl);
+  }
+  std::string out(raw);
+  // Windows line breaks in the template file must not double up with the writer's CRLF.
+  out.erase(std::remove(out.begin(), out.end(), '\r'), out.end());
+  return out;
+}
+
+// A statement: each line trimmed (the XML indentation is layout), blank lines at the ends
+// dropped.
+std::string clean_statement(std::string_view raw, int& first_line) {
+  std::vector<std::string_view> lines;
+  size_t pos = 0;
+  while (true) {
+    const size_t nl = raw.find('\n', pos);
+    std::string_view l = raw.substr(pos, nl == std::string_view::npos ? raw.npos : nl - pos);
+    const size_t b = l.find_first_not_of(" \t\r");
+    l = b == l.npos ? std::string_view() : l.substr(b, l.find_last_not_of(" \t\r") - b + 1);
+    lines.push_back(l);
+    if (nl == std::string_view::npos)
+      break;
+    pos = nl + 1;
+  }
+  size_t first = 0, last = lines.size();
+  while (first < last && lines[first].empty()) {
+    ++first;
+    ++first_line;
+  }
+  while (last > first && lines[last - 1].empty())
+    --last;
+  std::string out;
+  for (size_t i = first; i < last; ++i) {
+    if (i > first)
+      out += '\n';
+    out += lines[i];
+  }
+  return out;
+}
+
+// {body} (and {decls}) stand alone on their line, because the writer streams the statements
+// between the part before and the part after.
+void check_block_placeholders(const Reader& r, const std::string& text, int first_line,
+                              const krl::SkeletonSpec& spec) {
+  int body = 0, decls = 0;
+  for (const krl::PlaceholderUse& u : krl::scan_placeholders(text)) {
+    if (u.ph != krl::Ph::body && u.ph != krl::Ph::decls)
+      continue;
+    const int line = line_at(text, u.offset, first_line);
+    const size_t bol =
+        text.rfind('\n', u.offset) == std::string::npos ? 0 : text.rfind('\n', u.offset) + 1;
+    size_t eol = text.find('\n', u.offset);
+    eol = eol == std::string::npos ? text.size() : eol;
+    const std::string_view whole(text.data() + bol, eol - bol);
+    const size_t b = whole.find_first_not_of(" \t");
+    const size_t e = whole.find_last_not_of(" \t");
+    if (whole.substr(b, e - b + 1) != "{" + std::string(u.name) + "}") {
+      r.fail(line, "{" + std::string(u.name) + "} must stand alone on its line in <file kind=\"" +
+                       std::string(spec.kind) + "\">");
+    }
+    (u.ph == krl::Ph::body ? body : decls)++;
+    if (body > 1 || decls > 1) {
+      r.fail(line, "{" + std::string(u.name) + "} appears twice in <file kind=\"" +
+                       std::string(spec.kind) + "\">");
+    }
+  }
+  if (spec.needs_body && body == 0) {
+    r.fail(first_line, "<file kind=\"" + std::string(spec.kind) +
+                           "\"> needs a line {body} where the statements go");
+  }
+}
+
+}  // namespace
+
+KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::string& source_name) {
+  Reader r(source_name);
+  tinyxml2::XMLDocument doc;
+  const XMLElement* root = r.parse(doc, xml_text, "krl-templates");
+  r.only_attributes(root, {"name", "format"});
+  const std::string format = r.required(root, "format");
+  if (format != "1") {
+    r.fail(root, "unsupported template format \"" + format + "\" (this redpost reads 1)");
+  }
+
+  KrlTemplateSet set;
+  set.source_file = source_name;
+  set.name = r.required(root, "name");
+  if (set.name.empty())
+    r.fail(root, "<krl-templates> needs a non-empty name");
+
+  const XMLElement* numbers = nullptr;
+  const XMLElement* spline = nullptr;
+  std::set<std::string> files_seen;
+  std::map<std::string, int> statement_line;
+
+  for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    const std::string n = e->Name();
+    if (n == "description") {
+      r.only_attributes(e, {});
+    } else if (n == "numbers") {
+      if (numbers)
+        r.fail(e, "<numbers> given twice");
+      numbers = e;
+      r.only_attributes(e, {"position", "angle", "external", "velocity", "rpm"});
+      set.position_decimals = r.integer(e, "position", 0, 9);
+      set.angle_decimals = r.integer(e, "angle", 0, 9);
+      set.external_decimals = r.integer(e, "external", 0, 9);
+      set.velocity_decimals = r.integer(e, "velocity", 0, 9);
+      set.rpm_decimals = r.integer(e, "rpm", 0, 9);
+    } else if (n == "spline") {
+      if (spline)
+        r.fail(e, "<spline> given twice");
+      spline = e;
+      r.only_attributes(e, {"max-points"});
+      set.spline = true;
+      set.max_spline_points = r.integer(e, "max-points", 1, 100000);
+    } else if (n == "file") {
+      r.only_attributes(e, {"kind"});
+      const std::string kind = r.required(e, "kind");
+      const krl::SkeletonSpec* spec = krl::find_skeleton(kind);
+      if (!spec) {
+        r.fail(e, "unknown file kind \"" + kind + "\" (known: src, dat, main_src, main_dat)");
+      }
+      if (!files_seen.insert(kind).second)
+        r.fail(e, "<file kind=\"" + kind + "\"> given twice");
+      int line = 0;
+      const std::string raw = r.text_of(e, line);
+      check_placeholders(r, raw, line, spec->allowed, "<file kind=\"" + kind + "\">");
+      std::string text = clean_skeleton(raw, line);
+      check_block_placeholders(r, text, line, *spec);
+      switch (spec->id) {
+        case krl::SkeletonKind::src:
+          set.src_file = std::move(text);
+          break;
+        case krl::SkeletonKind::dat:
+          set.dat_file = std::move(text);
+          break;
+        case krl::SkeletonKind::main_src:
+          set.main_src_file = std::move(text);
+          break;
+        case krl::SkeletonKind::main_dat:
+          set.main_dat_file = std::move(text);
+          break;
+      }
+    } else if (n == "statement") {
+      r.only_attributes(e, {"name"});
+      const std::string name = r.required(e, "name");
+      const krl::StatementSpec* spec = krl::find_statement(name);
+      if (!spec) {
+        std::string list;
+        for (const krl::StatementSpec& s : krl::statement_specs())
+          list += (list.empty() ? "" : ", ") + std::string(s.name);
+        r.fail(e, "unknown statement \"" + name + "\" (known: " + list + ")");
+      }
+      if (statement_line.count(name))
+        r.fail(e, "<statement name=\"" + name + "\"> given twice");
+      statement_line[name] = e->GetLineNum();
+      int line = 0;
+      const std::string raw = r.text_of(e, line);
+      check_placeholders(r, raw, line, spec->allowed, "<statement name=\"" + name + "\">");
+      set.statements[name] = clean_statement(raw, line);
+    } else {
+      r.fail(e, "unknown element <" + n +
+                    "> in <krl-templates> (known: description, numbers, spline, file, statement)");
+    }
+  }
+
+  if (!numbers)
+    r.fail(root, "<krl-templates> needs a <numbers> element");
+  for (const krl::SkeletonSpec& s : krl::skeleton_specs()) {
+    if (!files_seen.count(std::string(s.kind)))
+      r.fail(root, "<krl-templates> needs a <file kind=\"" + std::string(s.kind) + "\">");
+  }
+  for (const krl::StatementSpec& s : krl::statement_specs()) {
+    const auto it = statement_line.find(std::string(s.name));
+    if (!s.used_by(set.spline) && it != statement_line.end()) {
+      r.fail(it->second, "statement \"" + std::string(s.name) + "\" " +
+                             (set.spline ? "is not used by a set with <spline> (feed moves go "
+                                           "into spline blocks: spline_lin)"
+                                         : "is for spline blocks, but the set has no <spline> "
+                                           "element"));
+    }
+    if (s.used_by(set.spline) && it == statement_line.end()) {
+      r.fail(root, "<krl-templates> needs a <statement name=\"" + std::string(s.name) +
+                       "\"> (it may be empty to write nothing)");
+    }
+  }
+  return set;
+}
+
+KrlTemplateSet load_krl_templates(const std::string& path) {
+  return parse_krl_templates(read_text_file(path), path);
+}
+
+}  // namespace redpost

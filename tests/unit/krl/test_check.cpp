@@ -1,0 +1,176 @@
+// redpost check as a library: each finding at its line, clean programs clean.
+#include <filesystem>
+#include <string>
+
+#include <algorithm>
+
+#include "catch_compat.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/cell_xml.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/krl/check.hpp"
+
+using namespace redpost;
+
+namespace {
+
+// Findings of check_krl_text whose message contains `what`, as line numbers.
+std::vector<int> lines_with(const std::vector<KrlFinding>& findings, const std::string& what) {
+  std::vector<int> out;
+  for (const KrlFinding& f : findings)
+    if (f.message.find(what) != std::string::npos)
+      out.push_back(f.line);
+  return out;
+}
+
+const char* const kClean =
+    "&ACCESS RVP\r\n"                                                             // 1
+    "DEF PROG( )\r\n"                                                             // 2
+    "DECL E6POS P_LOCAL={X 1,Y 2,Z 3,A 0,B 0,C 0}\r\n"                            // 3
+    "INT I\r\n"                                                                   // 4
+    ";FOLD INI\r\n"                                                               // 5
+    "  GLOBAL INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM ( )\r\n"          // 6
+    "  INTERRUPT ON 3\r\n"                                                        // 7
+    ";ENDFOLD (INI)\r\n"                                                          // 8
+    ";;FOLD a commented-out fold is no fold\r\n"                                  // 9
+    "$VEL.CP = 0.2\r\n"                                                           // 10
+    "PTP XP1\r\n"                                                                 // 11
+    "LIN P_LOCAL C_DIS\r\n"                                                       // 12
+    "PTP HOME\r\n"                                                                // 13
+    "LIN {X 1, Y 2, Z 3} ; comment with an_identifier_that_is_much_too_long\r\n"  // 14
+    "END\r\n";                                                                    // 15
+
+}  // namespace
+
+TEST_CASE("check: a clean text has no findings") {
+  const auto f = check_krl_text("PROG.src", kClean, {"XP1"}, KrlCheckOptions{});
+  for (const KrlFinding& x : f)
+    UNSCOPED_INFO(x.line << ": " << x.message);
+  CHECK(f.empty());
+}
+
+TEST_CASE("check: declared names") {
+  const auto names = krl_declared_names(
+      "DEFDAT P PUBLIC\nDECL E6POS XP1={X 1,Y 2},XP2\nDECL GLOBAL FDAT FP1={TOOL_NO 1}\n"
+      "DECL INT COUNTER=0\nE6POS P9\nENDDAT\n");
+  for (const char* n : {"XP1", "XP2", "FP1", "COUNTER", "P9"})
+    CHECK(std::find(names.begin(), names.end(), n) != names.end());
+}
+
+TEST_CASE("check: each text finding at its line") {
+  const std::string text =
+      "DEF PROG( )\n"                    // 1
+      "DECL INT I\n"                     // 2
+      "$VEL.CP = 5\n"                    // 3
+      ";FOLD never closed\n"             // 4
+      "DECL REAL LATE\n"                 // 5
+      "ABCDEFGHIJKLMNOPQRSTUVWXY = 1\n"  // 6 (25 characters)
+      "ABCDEFGHIJKLMNOPQRSTUVWX = 1\n"   // 7 (24: fine)
+      "PTP XP9\n"                        // 8
+      "$VEL.CP = 0\n"                    // 9
+      "$VEL.CP = 2\n"                    // 10 (fine)
+      "CIRC XP1, XP7 C_DIS\n"            // 11
+      "END\n"                            // 12
+      "END\n"                            // 13
+      "DEF SUB( )\n";                    // 14
+  const auto f = check_krl_text("PROG.src", text, {"XP1"}, KrlCheckOptions{});
+  for (const KrlFinding& x : f)
+    UNSCOPED_INFO(x.line << ": " << x.message);
+  CHECK(lines_with(f, "$VEL.CP") == std::vector<int>{3, 9});
+  CHECK(lines_with(f, "FOLD without") == std::vector<int>{4});
+  CHECK(lines_with(f, "declaration after") == std::vector<int>{5});
+  CHECK(lines_with(f, "25 characters") == std::vector<int>{6});
+  CHECK(lines_with(f, "'XP9' is not declared") == std::vector<int>{8});
+  CHECK(lines_with(f, "'XP7' is not declared") == std::vector<int>{11});
+  CHECK(lines_with(f, "END without") == std::vector<int>{13});
+  CHECK(lines_with(f, "has no END") == std::vector<int>{14});
+  CHECK(f.size() == 9);
+}
+
+TEST_CASE("check: ENDFOLD without FOLD, file size") {
+  KrlCheckOptions o;
+  o.max_bytes = 10;
+  const auto f = check_krl_text("P.src", "DEF P( )\n;ENDFOLD\nEND\n", {}, o);
+  CHECK(lines_with(f, "ENDFOLD without") == std::vector<int>{2});
+  CHECK(lines_with(f, "bytes, more than the limit of 10") == std::vector<int>{1});
+}
+
+TEST_CASE("check: S/T on the first Cartesian PTP, cell limits") {
+  KrlProgram p;
+  KrlMotionRecord axis;
+  axis.keyword = "PTP";
+  axis.target.values = {{"A1", 0}, {"A2", -90}, {"A3", 90}, {"A4", 0}, {"A5", 0}, {"A6", 0}};
+  axis.file = "P.src";
+  axis.line = 5;
+  KrlMotionRecord cart;
+  cart.keyword = "PTP";
+  cart.target.values = {{"X", 1}, {"Y", 2}, {"Z", 3}, {"A", 0}, {"B", 0}, {"C", 0}};
+  cart.file = "P.src";
+  cart.line = 6;
+  KrlMotionRecord cart2 = cart;
+  cart2.line = 7;
+  p.motions = {axis, cart, cart2};
+  auto f = check_krl_motions(p, KrlCheckOptions{});
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].line == 6);
+  CHECK(f[0].message.find("no S and T") != std::string::npos);
+  p.motions[1].target.status = 2;
+  p.motions[1].target.turn = 35;
+  CHECK(check_krl_motions(p, KrlCheckOptions{}).empty());
+
+  const Cell cell = load_cell(std::string(REDPOST_SOURCE_DIR) +
+                              "/definitions/cells/andres2011_kr15_track_table.xml");
+  const Joint* a2 = nullptr;
+  for (int j = 0; j < cell.size(); ++j)
+    if (cell.joint(j).axis.kind == AxisKind::arm && cell.joint(j).axis.number == 2)
+      a2 = &cell.joint(j);
+  REQUIRE(a2 != nullptr);
+  const double lo = to_axis_value(*a2, a2->lower), hi = to_axis_value(*a2, a2->upper);
+  KrlCheckOptions o;
+  o.cell = &cell;
+  p.motions[0].target.values["A2"] = (lo + hi) / 2;
+  CHECK(check_krl_motions(p, o).empty());
+  p.motions[0].target.values["A2"] = std::max(lo, hi) + 5.0;
+  f = check_krl_motions(p, o);
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].line == 5);
+  CHECK(f[0].message.find("A2") == 0);
+}
+
+TEST_CASE("check: golden programs are clean (through the reader)") {
+  namespace fs = std::filesystem;
+  const Cell cell = load_cell(std::string(REDPOST_SOURCE_DIR) +
+                              "/definitions/cells/andres2011_kr15_track_table.xml");
+  KrlCheckOptions o;
+  o.cell = &cell;
+  for (const auto& e : fs::directory_iterator(std::string(REDPOST_SOURCE_DIR) + "/tests/golden")) {
+    if (!e.is_directory())
+      continue;
+    const auto f = check_krl(e.path().string(), o);
+    for (const KrlFinding& x : f)
+      UNSCOPED_INFO(x.file << ":" << x.line << ": " << x.message);
+    CHECK(f.empty());
+  }
+}
+
+TEST_CASE("check: evaluation KRL files are checked without a crash") {
+  namespace fs = std::filesystem;
+  const std::string dir = "/work/shared/evaldata/krl";
+  if (!fs::is_directory(dir)) {
+    WARN("no " << dir << ": skipped");
+    return;
+  }
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".src")
+      continue;
+    try {
+      const auto f = check_krl(e.path().string(), KrlCheckOptions{});
+      for (const KrlFinding& x : f)
+        UNSCOPED_INFO(x.file << ":" << x.line << ": " << x.message);
+      SUCCEED();
+    } catch (const Error& err) {
+      FAIL(e.path().string() << ": " << err.what());
+    }
+  }
+  CHECK_NOTHROW(check_krl(dir, KrlCheckOptions{}));
+}

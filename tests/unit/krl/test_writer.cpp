@@ -1,0 +1,838 @@
+// KRL template sets and the KRL writer: the shipped sets load, bad sets are refused with
+// file:line, and what the writer puts on disk is read back by a minimal reader written here
+// (string scanning, independent of the writer's code) and compared with the motions given.
+#include <stdlib.h>
+
+#include <algorithm>
+#include <charconv>
+#include <clocale>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <locale>
+#include <map>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "catch_compat.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/status_turn.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/krl/writer.hpp"
+#include "temp_dir.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string template_path(const std::string& name) {
+  return test::source_path("definitions/krl/" + name + ".xml");
+}
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// A fresh directory under /tmp, removed at the end of the test, with its listing.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("redpost_krl") {}
+  std::vector<std::string> names() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(path))
+      out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  std::map<std::string, std::string> contents() const {
+    std::map<std::string, std::string> out;
+    for (const std::string& n : names())
+      out[n] = read_bytes(path / n);
+    return out;
+  }
+};
+
+// --- the minimal independent reader -----------------------------------------------------------
+
+std::vector<std::string> split_lines(const std::string& bytes) {
+  std::vector<std::string> lines;
+  size_t pos = 0;
+  while (pos < bytes.size()) {
+    const size_t nl = bytes.find('\n', pos);
+    std::string l = bytes.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
+    if (!l.empty() && l.back() == '\r')
+      l.pop_back();
+    lines.push_back(l);
+    if (nl == std::string::npos)
+      break;
+    pos = nl + 1;
+  }
+  return lines;
+}
+
+double parse_number(const std::string& s) {
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  REQUIRE(ec == std::errc());
+  REQUIRE(ptr == s.data() + s.size());
+  return v;
+}
+
+// A motion line: "PTP {E6AXIS: A1 0.0, ...}", "LIN {E6POS: X 1, ...} C_DIS", "SLIN {...}".
+struct MotionLine {
+  std::string command, type;
+  std::map<std::string, double> value;
+  std::vector<std::string> keys;  // in order
+  size_t line_index = 0;
+};
+
+std::vector<MotionLine> motion_lines(const std::vector<std::string>& lines) {
+  static const std::regex motion(R"(^(PTP|LIN|SLIN) \{(E6POS|E6AXIS): ([^}]*)\}( C_DIS)?$)");
+  static const std::regex item(R"(^\s*([A-Z][A-Z0-9]*) (-?[0-9]+(\.[0-9]+)?)$)");
+  std::vector<MotionLine> out;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    std::smatch m;
+    if (!std::regex_match(lines[i], m, motion))
+      continue;
+    MotionLine ml;
+    ml.command = m[1];
+    ml.type = m[2];
+    ml.line_index = i;
+    std::stringstream items(m[3].str());
+    std::string it;
+    while (std::getline(items, it, ',')) {
+      std::smatch im;
+      REQUIRE(std::regex_match(it, im, item));
+      ml.keys.push_back(im[1]);
+      ml.value[im[1]] = parse_number(im[2]);
+    }
+    out.push_back(ml);
+  }
+  return out;
+}
+
+Eigen::Matrix3d rotation_zyx_deg(double a, double b, double c) {
+  const double k = 3.14159265358979323846 / 180.0;
+  return (Eigen::AngleAxisd(a * k, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(b * k, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(c * k, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+// --- motions ----------------------------------------------------------------------------------
+
+std::vector<KrlMotion> make_motions(const Cell& cell, int count, uint64_t seed,
+                                    int rapid_every = 0) {
+  const ArmStatusModel model = make_arm_status_model(cell);
+  std::mt19937_64 rng(seed);
+  std::vector<KrlMotion> out;
+  for (int i = 0; i < count; ++i) {
+    const JointVector q = test::random_posture(cell, rng);
+    KrlMotion m;
+    m.kind = rapid_every > 0 && i % rapid_every == rapid_every - 1 ? KrlMotionKind::rapid
+                                                                   : KrlMotionKind::lin;
+    m.axes = to_controller_axes(cell, q);
+    m.T_base_tcp = tcp_pose(cell, q);
+    m.status_turn = status_turn(cell, model, q);
+    m.cl_line = 1000 + 3 * i;
+    out.push_back(m);
+  }
+  return out;
+}
+
+KrlProgramInfo info_for(const TempDir& dir, const std::string& name) {
+  KrlProgramInfo info;
+  info.name = name;
+  info.output_dir = dir.path.string();
+  info.header_comment = "redpost test";
+  return info;
+}
+
+std::vector<std::string> write_program(const KrlTemplateSet& set, const KrlProgramInfo& info,
+                                       const std::vector<KrlMotion>& motions,
+                                       double feed_mm_per_min = 1200.0) {
+  KrlWriter w(set, info);
+  w.velocity(feed_mm_per_min / 60000.0);
+  for (const KrlMotion& m : motions)
+    w.motion(m);
+  return w.finish();
+}
+
+void check_axes(const MotionLine& ml, const AxisValues& axes, bool with_arm) {
+  if (with_arm) {
+    for (int n = 1; n <= 6; ++n) {
+      const std::string key = "A" + std::to_string(n);
+      REQUIRE(ml.value.count(key));
+      CHECK(ml.value.at(key) == Approx(axes.arm(n)).margin(0.5e-4 + 1e-12));
+    }
+  }
+  for (int n = 1; n <= 6; ++n) {
+    const std::string key = "E" + std::to_string(n);
+    if (std::isnan(axes.external(n))) {
+      CHECK(ml.value.count(key) == 0);  // only the axes the cell has
+    } else {
+      REQUIRE(ml.value.count(key));
+      CHECK(ml.value.at(key) == Approx(axes.external(n)).margin(0.5e-4 + 1e-12));
+    }
+  }
+}
+
+void check_pose(const MotionLine& ml, const KrlMotion& m) {
+  const Eigen::Vector3d p = m.T_base_tcp.translation();
+  CHECK(ml.value.at("X") == Approx(p.x()).margin(0.5e-3 + 1e-9));
+  CHECK(ml.value.at("Y") == Approx(p.y()).margin(0.5e-3 + 1e-9));
+  CHECK(ml.value.at("Z") == Approx(p.z()).margin(0.5e-3 + 1e-9));
+  const Eigen::Matrix3d R = rotation_zyx_deg(ml.value.at("A"), ml.value.at("B"), ml.value.at("C"));
+  CHECK((R - m.T_base_tcp.linear()).norm() < 1e-5);
+}
+
+int line_of(const std::string& text, const std::string& needle) {
+  const size_t at = text.find(needle);
+  REQUIRE(at != std::string::npos);
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+// --- template sets ------------------------------------------------------------------------------
+
+TEST_CASE("krl_writer: the shipped template sets load") {
+  const KrlTemplateSet lin = load_krl_templates(template_path("krc4_lin"));
+  CHECK(lin.name == "krc4_lin");
+  CHECK_FALSE(lin.spline);
+  CHECK(lin.statements.at("lin").find("C_DIS") != std::string::npos);
+  const KrlTemplateSet spline = load_krl_templates(template_path("krc4_spline"));
+  CHECK(spline.spline);
+  CHECK(spline.max_spline_points == 100);
+  CHECK(spline.statements.count("lin") == 0);
+  const KrlTemplateSet krc2 = load_krl_templates(template_path("krc2_lin"));
+  CHECK(krc2.statements.at("rapid").find("{s}") != std::string::npos);
+  CHECK(krc2.src_file.find("&PARAM") == std::string::npos);
+  for (const KrlTemplateSet* s : {&lin, &spline, &krc2}) {
+    INFO(s->name);
+    CHECK(s->src_file.find("BAS (#INITMOV,0 )") != std::string::npos);
+    CHECK(s->src_file.find("{date}") == std::string::npos);  // deterministic output
+    CHECK(s->src_file.rfind("&ACCESS", 0) == 0);             // the layout line break is dropped
+  }
+}
+
+TEST_CASE("krl_writer: the example of docs/krl-templates.md loads and writes") {
+  const std::string doc = read_bytes(test::source_path("docs/krl-templates.md"));
+  const size_t begin = doc.find("```xml\n");
+  REQUIRE(begin != std::string::npos);
+  const size_t end = doc.find("\n```", begin + 7);
+  REQUIRE(end != std::string::npos);
+  const KrlTemplateSet set =
+      parse_krl_templates(doc.substr(begin + 7, end - begin - 7), "krl-templates.md");
+  TempDir dir;
+  const Cell cell = test::shipped_cell("caro2014_kr270_table");
+  write_program(set, info_for(dir, "DOC_EXAMPLE"), make_motions(cell, 5, 8));
+  CHECK(motion_lines(split_lines(read_bytes(dir.path / "DOC_EXAMPLE.src"))).size() == 5);
+}
+
+TEST_CASE("krl_writer: bad template files are refused with file:line") {
+  const std::string good = read_bytes(template_path("krc4_lin"));
+  const auto expect_error = [](const std::string& text, int line, const std::string& words) {
+    try {
+      parse_krl_templates(text, "bad.xml");
+      FAIL("accepted");
+    } catch (const Error& e) {
+      INFO(e.what());
+      CHECK(e.code() == ErrorCode::bad_input);
+      CHECK(e.where().file == "bad.xml");
+      if (line > 0)
+        CHECK(e.where().line == line);
+      CHECK(e.message().find(words) != std::string::npos);
+    }
+  };
+  REQUIRE_NOTHROW(parse_krl_templates(good, "good.xml"));
+
+  SECTION("unknown placeholder in a statement") {
+    const std::string bad = replaced(good, "Y {y}, Z {z}, A {a}, B {b}, C {c}{ext}} C_DIS",
+                                     "Y {y}, Z {zz}, A {a}, B {b}, C {c}{ext}} C_DIS");
+    expect_error(bad, line_of(bad, "{zz}"), "{zz}");
+  }
+  SECTION("a placeholder of another statement") {
+    const std::string bad = replaced(good, "{c}{ext}} C_DIS", "{c}, S {s}{ext}} C_DIS");
+    expect_error(bad, line_of(bad, "S {s}"), "{s}");
+  }
+  SECTION("unknown placeholder deep in a skeleton") {
+    const std::string bad = replaced(good, "$TOOL = {tool}", "$TOOL = {tol}");
+    expect_error(bad, line_of(bad, "{tol}"), "{tol}");
+  }
+  SECTION("{body} not alone on its line") {
+    const std::string bad = replaced(good, "\n{body}\n", "\nX {body}\n");
+    expect_error(bad, line_of(bad, "X {body}"), "alone");
+  }
+  SECTION("unknown statement") {
+    const std::string bad =
+        replaced(good, "  <statement name=\"vel\">",
+                 "  <statement name=\"circ\">CIRC {x}</statement>\n  <statement name=\"vel\">");
+    expect_error(bad, line_of(bad, "name=\"circ\""), "circ");
+  }
+  SECTION("a spline statement in a set without <spline>") {
+    const std::string bad =
+        replaced(good, "  <statement name=\"vel\">",
+                 "  <statement name=\"spline_end\">ENDSPLINE</statement>\n  <statement "
+                 "name=\"vel\">");
+    expect_error(bad, line_of(bad, "spline_end"), "spline");
+  }
+  SECTION("a statement missing") {
+    const std::string bad =
+        replaced(good, "<statement name=\"vel\">$VEL.CP = {vel}</statement>", "");
+    expect_error(bad, line_of(bad, "<krl-templates"), "vel");
+  }
+  SECTION("decimals out of range") {
+    const std::string bad = replaced(good, "angle=\"4\"", "angle=\"four\"");
+    expect_error(bad, line_of(bad, "<numbers"), "angle");
+  }
+  SECTION("malformed XML") {
+    const std::string bad = replaced(good, "</statement>\n  <statement name=\"comment\">",
+                                     "</statment>\n  <statement name=\"comment\">");
+    try {
+      parse_krl_templates(bad, "bad.xml");
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.where().file == "bad.xml");
+      CHECK(e.where().line > 0);
+      CHECK(std::string(e.what()).find("not well-formed") != std::string::npos);
+    }
+  }
+  SECTION("a file on disk: the message starts with path:line") {
+    TempDir dir;
+    const fs::path p = dir.path / "t.xml";
+    const std::string bad = replaced(good, "{apo_mm}", "{apo}");
+    std::ofstream(p, std::ios::binary) << bad;
+    try {
+      load_krl_templates(p.string());
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(std::string(e.what()).rfind(
+                p.string() + ":" + std::to_string(line_of(bad, "{apo}")) + ":", 0) == 0);
+    }
+  }
+  SECTION("missing file") {
+    try {
+      load_krl_templates("/nonexistent/redpost/krc9.xml");
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::io);
+      CHECK(e.where().file == "/nonexistent/redpost/krc9.xml");
+    }
+  }
+}
+
+// --- the writer -----------------------------------------------------------------------------
+
+TEST_CASE("krl_writer: a small program reads back as the motions given") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");  // E1 track, E2 table
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  KrlProgramInfo info = info_for(dir, "MILL_TEST");
+  info.cl_line_every = 10;
+  info.base = "BASE_DATA[3]";
+  info.tool = "TOOL_DATA[2]";
+  std::vector<KrlMotion> motions = make_motions(cell, 60, 42, 20);
+  motions[17].T_base_tcp.translation().x() = -0.0002;  // prints as 0.000, not -0.000
+
+  const double feed1 = 1500.0, feed2 = 700.0;  // mm/min
+  {
+    KrlWriter w(set, info);
+    w.velocity(feed1 / 60000.0);
+    for (size_t i = 0; i < motions.size(); ++i) {
+      if (i == 30)
+        w.velocity(feed2 / 60000.0);
+      w.motion(motions[i]);
+    }
+    CHECK(w.motions() == 60);
+    const std::vector<std::string> paths = w.finish();
+    REQUIRE(paths.size() == 1);
+    CHECK(paths[0] == (dir.path / "MILL_TEST.src").string());
+  }
+  CHECK(dir.names() == std::vector<std::string>{"MILL_TEST.dat", "MILL_TEST.src"});
+  const std::string src = read_bytes(dir.path / "MILL_TEST.src");
+  const std::string dat = read_bytes(dir.path / "MILL_TEST.dat");
+
+  // Line endings: CRLF everywhere, no bare LF, and a final CRLF.
+  for (const std::string* bytes : {&src, &dat}) {
+    size_t bare = 0;
+    for (size_t i = 0; i < bytes->size(); ++i)
+      bare += (*bytes)[i] == '\n' && (i == 0 || (*bytes)[i - 1] != '\r');
+    CHECK(bare == 0);
+    CHECK(bytes->size() >= 2);
+    CHECK(bytes->substr(bytes->size() - 2) == "\r\n");
+  }
+  const std::vector<std::string> lines = split_lines(src);
+  const auto has = [&](const std::string& l) {
+    return std::find(lines.begin(), lines.end(), l) != lines.end();
+  };
+  CHECK(lines[0] == "&ACCESS RVP");
+  CHECK(has("DEF MILL_TEST( )"));
+  CHECK(has("END"));
+  CHECK(has("    BAS (#INITMOV,0 )"));
+  CHECK(has("$BASE = BASE_DATA[3]"));
+  CHECK(has("$TOOL = TOOL_DATA[2]"));
+  CHECK(has("$APO.CDIS = 0.500"));
+  CHECK(dat.find("DEFDAT MILL_TEST\r\n") != std::string::npos);
+  CHECK(dat.find("ENDDAT\r\n") != std::string::npos);
+  CHECK(src.find("-0.000") == std::string::npos);
+
+  const std::vector<MotionLine> ml = motion_lines(lines);
+  REQUIRE(ml.size() == motions.size());
+  // The first motion, although given as a LIN, is a PTP to the full E6AXIS.
+  CHECK(ml[0].command == "PTP");
+  CHECK(ml[0].type == "E6AXIS");
+  check_axes(ml[0], motions[0].axes, true);
+  CHECK(ml[0].keys == std::vector<std::string>{"A1", "A2", "A3", "A4", "A5", "A6", "E1", "E2"});
+  for (size_t i = 1; i < motions.size(); ++i) {
+    INFO("motion " << i);
+    if (motions[i].kind == KrlMotionKind::rapid) {
+      CHECK(ml[i].command == "PTP");
+      CHECK(ml[i].type == "E6AXIS");
+      check_axes(ml[i], motions[i].axes, true);
+    } else {
+      CHECK(ml[i].command == "LIN");
+      CHECK(ml[i].type == "E6POS");
+      CHECK(ml[i].keys == std::vector<std::string>{"X", "Y", "Z", "A", "B", "C", "E1", "E2"});
+      check_pose(ml[i], motions[i]);
+      check_axes(ml[i], motions[i].axes, false);
+    }
+  }
+
+  // $VEL.CP in m/s = feed / 60000, printed before the first feed move and at the change.
+  std::vector<std::pair<size_t, double>> vel;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].rfind("$VEL.CP = ", 0) == 0)
+      vel.emplace_back(i, parse_number(lines[i].substr(10)));
+  }
+  REQUIRE(vel.size() == 2);
+  CHECK(vel[0].second == Approx(feed1 / 60000.0).margin(0.5e-6));
+  CHECK(vel[1].second == Approx(feed2 / 60000.0).margin(0.5e-6));
+  CHECK(vel[0].first < ml[1].line_index);
+  CHECK(vel[0].first > ml[0].line_index);
+  CHECK(vel[1].first > ml[29].line_index);
+  CHECK(vel[1].first < ml[30].line_index);
+
+  // A CL line comment before every 10th motion, carrying that motion's CL line.
+  int cl_comments = 0;
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const size_t at = ml[i].line_index;
+    const std::string expected = "; CL line " + std::to_string(motions[i].cl_line);
+    const bool present =
+        at > 0 && (lines[at - 1] == expected || (at > 1 && lines[at - 2] == expected));
+    CHECK(present == (i % 10 == 0));
+    cl_comments += present;
+  }
+  CHECK(cl_comments == 6);
+}
+
+TEST_CASE("krl_writer: a cell without external axes writes no E values") {
+  const Cell cell = test::shipped_cell("caro2014_kr270_table");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  const std::vector<KrlMotion> motions = make_motions(cell, 20, 5);
+  write_program(set, info_for(dir, "CARO"), motions);
+  const std::vector<MotionLine> ml = motion_lines(split_lines(read_bytes(dir.path / "CARO.src")));
+  REQUIRE(ml.size() == motions.size());
+  CHECK(ml[0].keys == std::vector<std::string>{"A1", "A2", "A3", "A4", "A5", "A6"});
+  for (size_t i = 1; i < ml.size(); ++i) {
+    CHECK(ml[i].keys == std::vector<std::string>{"X", "Y", "Z", "A", "B", "C"});
+    check_pose(ml[i], motions[i]);
+  }
+}
+
+TEST_CASE("krl_writer: KRC2 rapids are Cartesian PTPs with Status and Turn") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc2_lin"));
+  TempDir dir;
+  const std::vector<KrlMotion> motions = make_motions(cell, 40, 9, 4);
+  write_program(set, info_for(dir, "KRC2_PROG"), motions);
+  const std::string src = read_bytes(dir.path / "KRC2_PROG.src");
+  CHECK(src.find("&PARAM") == std::string::npos);
+  CHECK(read_bytes(dir.path / "KRC2_PROG.dat").find("EXT BAS (BAS_COMMAND :IN,REAL :IN )") !=
+        std::string::npos);
+  const std::vector<MotionLine> ml = motion_lines(split_lines(src));
+  REQUIRE(ml.size() == motions.size());
+  CHECK(ml[0].type == "E6AXIS");
+  int rapids = 0, seen_status = 0;
+  for (size_t i = 1; i < motions.size(); ++i) {
+    if (motions[i].kind != KrlMotionKind::rapid)
+      continue;
+    ++rapids;
+    INFO("motion " << i);
+    CHECK(ml[i].command == "PTP");
+    REQUIRE(ml[i].type == "E6POS");
+    CHECK(ml[i].keys ==
+          std::vector<std::string>{"X", "Y", "Z", "A", "B", "C", "S", "T", "E1", "E2"});
+    check_pose(ml[i], motions[i]);
+    check_axes(ml[i], motions[i].axes, false);
+    CHECK(ml[i].value.at("S") == motions[i].status_turn.status);
+    CHECK(ml[i].value.at("T") == motions[i].status_turn.turn);
+    seen_status |= motions[i].status_turn.status;
+  }
+  CHECK(rapids == 10);
+  CHECK(seen_status != 0);
+}
+
+TEST_CASE("krl_writer: spline blocks hold at most max-points SLINs") {
+  const Cell cell = test::shipped_cell("kr15_2");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_spline"));
+  TempDir dir;
+  const std::vector<KrlMotion> motions = make_motions(cell, 251, 13, 0);
+  {
+    KrlWriter w(set, info_for(dir, "SPLINED"));
+    w.velocity(0.02);
+    for (size_t i = 0; i < motions.size(); ++i) {
+      if (i == 150)
+        w.velocity(0.01);  // ends the block: no system variable inside a spline block
+      w.motion(motions[i]);
+    }
+    w.finish();
+  }
+  const std::vector<std::string> lines = split_lines(read_bytes(dir.path / "SPLINED.src"));
+  bool inside = false;
+  int in_block = 0, blocks = 0, slins = 0;
+  std::vector<int> sizes;
+  for (const std::string& l : lines) {
+    if (l == "SPLINE") {
+      CHECK_FALSE(inside);
+      inside = true;
+      in_block = 0;
+      ++blocks;
+    } else if (l == "ENDSPLINE C_SPL") {
+      CHECK(inside);
+      inside = false;
+      sizes.push_back(in_block);
+    } else if (l.rfind("SLIN ", 0) == 0) {
+      CHECK(inside);
+      ++in_block;
+      ++slins;
+    } else if (inside) {
+      CHECK(l.rfind(";", 0) == 0);  // only comments inside a block
+    }
+  }
+  CHECK_FALSE(inside);
+  CHECK(slins == 250);  // the first motion is the PTP
+  // 149 SLINs before the velocity change (100 + 49), then 101 (100 + 1).
+  CHECK(sizes == std::vector<int>{100, 49, 100, 1});
+  CHECK(blocks == 4);
+  const std::vector<MotionLine> ml = motion_lines(lines);
+  REQUIRE(ml.size() == motions.size());
+  for (size_t i = 1; i < ml.size(); ++i)
+    check_pose(ml[i], motions[i]);
+}
+
+TEST_CASE("krl_writer: splitting into a main program and parts") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  KrlProgramInfo info = info_for(dir, "BIGJOB");
+  info.motions_per_file = 1000;
+  const std::vector<KrlMotion> motions = make_motions(cell, 2500, 77, 0);
+  const std::vector<std::string> paths = write_program(set, info, motions);
+
+  CHECK(dir.names() == std::vector<std::string>{"BIGJOB.dat", "BIGJOB.src", "BIGJOB_P001.dat",
+                                                "BIGJOB_P001.src", "BIGJOB_P002.dat",
+                                                "BIGJOB_P002.src", "BIGJOB_P003.dat",
+                                                "BIGJOB_P003.src"});
+  REQUIRE(paths.size() == 4);
+  CHECK(fs::path(paths[0]).filename() == "BIGJOB.src");
+  std::vector<std::string> part_files;
+  for (size_t i = 1; i < paths.size(); ++i)
+    part_files.push_back(fs::path(paths[i]).filename().string());
+  CHECK(std::is_sorted(part_files.begin(), part_files.end()));
+
+  // The main calls the parts, in order, and moves nothing itself.
+  const std::vector<std::string> main = split_lines(read_bytes(dir.path / "BIGJOB.src"));
+  std::vector<std::string> calls;
+  const std::regex call(R"(^([A-Za-z][A-Za-z0-9_]*)\( \)$)");
+  for (const std::string& l : main) {
+    std::smatch m;
+    if (std::regex_match(l, m, call))
+      calls.push_back(m[1]);
+  }
+  CHECK(calls == std::vector<std::string>{"BIGJOB_P001", "BIGJOB_P002", "BIGJOB_P003"});
+  CHECK(motion_lines(main).empty());
+  CHECK(std::find(main.begin(), main.end(), "DEF BIGJOB( )") != main.end());
+
+  size_t next = 0;  // index of the next given motion
+  for (int part = 1; part <= 3; ++part) {
+    INFO("part " << part);
+    const std::string name = "BIGJOB_P00" + std::to_string(part);
+    const std::vector<std::string> lines = split_lines(read_bytes(dir.path / (name + ".src")));
+    CHECK(std::find(lines.begin(), lines.end(), "DEF " + name + "( )") != lines.end());
+    CHECK(read_bytes(dir.path / (name + ".dat")).find("DEFDAT " + name + "\r\n") !=
+          std::string::npos);
+    // Its own $VEL.CP before its first feed move: it runs alone.
+    CHECK(std::count_if(lines.begin(), lines.end(),
+                        [](const std::string& l) { return l.rfind("$VEL.CP = ", 0) == 0; }) == 1);
+    const std::vector<MotionLine> ml = motion_lines(lines);
+    REQUIRE(!ml.empty());
+    CHECK(ml[0].command == "PTP");
+    CHECK(ml[0].type == "E6AXIS");
+    if (part == 1) {
+      check_axes(ml[0], motions[0].axes, true);
+      CHECK(ml.size() == 1000);
+    } else {
+      // The posture where the previous part ended, then this part's own motions.
+      check_axes(ml[0], motions[next - 1].axes, true);
+      CHECK(ml.size() == (part == 3 ? 501u : 1001u));
+    }
+    for (size_t k = part == 1 ? 1 : 1; k < ml.size(); ++k) {
+      const size_t given = part == 1 ? k : next + k - 1;
+      CHECK(ml[k].command == "LIN");
+      check_pose(ml[k], motions[given]);
+    }
+    next += part == 1 ? ml.size() : ml.size() - 1;
+  }
+  CHECK(next == motions.size());
+}
+
+TEST_CASE("krl_writer: files appear only complete") {
+  const Cell cell = test::shipped_cell("kr15_2");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  const std::vector<KrlMotion> motions = make_motions(cell, 30, 3);
+
+  SECTION("destroyed without finish(): nothing is left") {
+    TempDir dir;
+    {
+      KrlProgramInfo info = info_for(dir, "ABORTED");
+      info.motions_per_file = 10;
+      KrlWriter w(set, info);
+      w.velocity(0.01);
+      for (const KrlMotion& m : motions)
+        w.motion(m);
+      CHECK_FALSE(dir.names().empty());  // temporaries while writing
+      for (const std::string& n : dir.names()) {
+        CHECK(n.front() == '.');  // .NAME.src.part~: hidden, and no final name yet
+        CHECK(n.size() > 6);
+        CHECK(n.substr(n.size() - 6) == ".part~");
+      }
+    }
+    CHECK(dir.names().empty());
+  }
+  SECTION("a failure half-way leaves nothing either") {
+    TempDir dir;
+    {
+      KrlWriter w(set, info_for(dir, "FAILED"));
+      w.velocity(0.01);
+      w.motion(motions[0]);
+      KrlMotion bad = motions[1];
+      bad.T_base_tcp.translation().y() = std::nan("");
+      CHECK_THROWS_AS(w.motion(bad), Error);
+    }
+    CHECK(dir.names().empty());
+  }
+  SECTION("finish() leaves no temporaries") {
+    TempDir dir;
+    KrlProgramInfo info = info_for(dir, "DONE");
+    info.motions_per_file = 10;
+    write_program(set, info, motions);
+    for (const std::string& n : dir.names()) {
+      CHECK(n.front() != '.');
+      CHECK(n.find('~') == std::string::npos);
+    }
+    CHECK(dir.names().size() == 8);  // main + 3 parts, .src and .dat each
+  }
+}
+
+TEST_CASE("krl_writer: identical input gives identical bytes, whatever the locale") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const std::vector<KrlMotion> motions = make_motions(cell, 300, 21, 7);
+  for (const char* set_name : {"krc4_lin", "krc4_spline", "krc2_lin"}) {
+    INFO(set_name);
+    const KrlTemplateSet set = load_krl_templates(template_path(set_name));
+    const auto run = [&]() {
+      TempDir dir;
+      KrlProgramInfo info = info_for(dir, "SAME");
+      info.motions_per_file = 120;
+      write_program(set, info, motions, 1234.5);
+      return dir.contents();
+    };
+    const auto first = run();
+    REQUIRE(first.size() == 8);
+    CHECK(run() == first);
+
+    // A C++ global locale with ',' as decimal point (always available).
+    struct CommaDecimal : std::numpunct<char> {
+      char do_decimal_point() const override { return ','; }
+      char do_thousands_sep() const override { return '.'; }
+      std::string do_grouping() const override { return "\3"; }
+    };
+    std::locale::global(std::locale(std::locale::classic(), new CommaDecimal));
+    const auto comma = run();
+    std::locale::global(std::locale::classic());
+    CHECK(comma == first);
+
+    // The C and C++ locales of a German system, where installed.
+    if (std::setlocale(LC_ALL, "de_DE.UTF-8") != nullptr) {
+      std::locale::global(std::locale("de_DE.UTF-8"));
+      const auto german = run();
+      std::locale::global(std::locale::classic());
+      std::setlocale(LC_ALL, "C");
+      CHECK(german == first);
+    } else {
+      WARN("locale de_DE.UTF-8 is not installed: the C-locale part of this test did not run");
+    }
+  }
+}
+
+TEST_CASE("krl_writer: program names are KRL identifiers of at most 24 characters") {
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  const auto refused = [&](const std::string& name, int per_file, const std::string& words) {
+    KrlProgramInfo info = info_for(dir, name);
+    info.motions_per_file = per_file;
+    try {
+      KrlWriter w(set, info);
+      FAIL("accepted " << name);
+    } catch (const Error& e) {
+      INFO(e.what());
+      CHECK(e.code() == ErrorCode::bad_input);
+      CHECK(e.message().find(words) != std::string::npos);
+    }
+  };
+  refused(std::string(25, 'A'), 0, "at most 24");
+  refused("1ABC", 0, "letter");
+  refused("MILL-1", 0, "letters");
+  refused("LIN", 0, "keyword");
+  refused("", 0, "empty");
+  // Splitting appends _P001: the name must leave room for it.
+  refused(std::string(20, 'B'), 1000, "too long to split");
+  CHECK_NOTHROW(KrlWriter(set, info_for(dir, std::string(24, 'C'))));
+  KrlProgramInfo split = info_for(dir, std::string(19, 'D'));
+  split.motions_per_file = 1000;
+  CHECK_NOTHROW(KrlWriter(set, split));
+  CHECK(dir.names().empty());  // the writers above were not finished
+}
+
+TEST_CASE("krl_writer: what cannot be written is refused") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  const std::vector<KrlMotion> motions = make_motions(cell, 3, 1);
+  TempDir dir;
+
+  SECTION("a missing output directory") {
+    KrlProgramInfo info = info_for(dir, "X");
+    info.output_dir = (dir.path / "not_there").string();
+    try {
+      KrlWriter w(set, info);
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::io);
+    }
+  }
+  SECTION("an axis value the template needs is NaN") {
+    KrlWriter w(set, info_for(dir, "NAN_AXIS"));
+    KrlMotion m = motions[0];
+    m.axes.arm(3) = std::nan("");
+    try {
+      w.motion(m);
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::internal);
+      CHECK(e.message().find("A3") != std::string::npos);
+    }
+  }
+  SECTION("a feed move before any feed rate") {
+    KrlWriter w(set, info_for(dir, "NO_FEED"));
+    w.motion(motions[0]);  // the PTP needs none
+    try {
+      w.motion(motions[1]);
+      FAIL("accepted");
+    } catch (const Error& e) {
+      CHECK(e.code() == ErrorCode::bad_input);
+    }
+  }
+  SECTION("external axes that change from motion to motion") {
+    KrlWriter w(set, info_for(dir, "EXT_CHANGE"));
+    w.velocity(0.01);
+    w.motion(motions[0]);
+    KrlMotion m = motions[1];
+    m.axes.external(2) = std::nan("");
+    CHECK_THROWS_AS(w.motion(m), Error);
+  }
+  SECTION("a literal of two lines") {
+    KrlWriter w(set, info_for(dir, "LITERAL"));
+    CHECK_THROWS_AS(w.literal("WAIT SEC 1\nHALT"), Error);
+  }
+}
+
+TEST_CASE("krl_writer: process statements, and their restatement at the start of a part") {
+  const Cell cell = test::shipped_cell("kr15_2");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  KrlProgramInfo info = info_for(dir, "PROC");
+  info.motions_per_file = 5;
+  const std::vector<KrlMotion> motions = make_motions(cell, 8, 2);
+  {
+    KrlWriter w(set, info);
+    w.tool_change(3, "D12 ball\nmill");
+    w.spindle(12000, true);
+    w.coolant(true, "FLOOD");
+    w.comment("roughing; pass 1\r\n");
+    w.velocity(0.02);
+    for (const KrlMotion& m : motions)
+      w.motion(m);
+    w.literal("WAIT SEC 0.5");
+    w.spindle(0, true);
+    w.finish();
+  }
+  const std::vector<std::string> p1 = split_lines(read_bytes(dir.path / "PROC_P001.src"));
+  const std::vector<std::string> p2 = split_lines(read_bytes(dir.path / "PROC_P002.src"));
+  const auto index = [](const std::vector<std::string>& lines, const std::string& l) {
+    return static_cast<long>(std::find(lines.begin(), lines.end(), l) - lines.begin());
+  };
+  for (const std::string& l :
+       {std::string("; TOOL CHANGE: T3 D12 ball mill"), std::string("; SPINDLE ON 12000 rpm CW"),
+        std::string("; COOLANT ON FLOOD")}) {
+    INFO(l);
+    CHECK(index(p1, l) < static_cast<long>(p1.size()));
+    // Restated in part 2 before its first PTP, so that it runs alone.
+    CHECK(index(p2, l) < static_cast<long>(motion_lines(p2).at(0).line_index));
+  }
+  CHECK(index(p1, "; roughing; pass 1") < static_cast<long>(p1.size()));
+  CHECK(index(p2, "WAIT SEC 0.5") < index(p2, "; SPINDLE OFF"));
+  CHECK(index(p2, "; SPINDLE OFF") < static_cast<long>(p2.size()));
+}
+
+TEST_CASE("krl_writer: a hand-built template set is checked too, and {date} only on request") {
+  const KrlTemplateSet shipped = load_krl_templates(template_path("krc4_lin"));
+  TempDir dir;
+  {
+    KrlTemplateSet set = shipped;
+    set.statements["lin"] = "LIN {E6POS: X {x}, Q {q}}";
+    CHECK_THROWS_AS(KrlWriter(set, info_for(dir, "HAND")), Error);
+    set = shipped;
+    set.statements["ptp_axes"] = "PTP {E6AXIS: A1 {a1}, X {x}}";  // not a PTP-axes value
+    CHECK_THROWS_AS(KrlWriter(set, info_for(dir, "HAND")), Error);
+    set = shipped;
+    set.statements.erase("vel");
+    CHECK_THROWS_AS(KrlWriter(set, info_for(dir, "HAND")), Error);
+    set = shipped;
+    set.src_file = "DEF {name}( )\nEND";  // no {body}
+    CHECK_THROWS_AS(KrlWriter(set, info_for(dir, "HAND")), Error);
+  }
+  CHECK(dir.names().empty());
+  KrlTemplateSet dated = shipped;
+  dated.dat_file = "DEFDAT {name}\n; written {date}\nENDDAT";
+  const Cell cell = test::shipped_cell("kr15_2");
+  write_program(dated, info_for(dir, "DATED"), make_motions(cell, 2, 4));
+  const std::string dat = read_bytes(dir.path / "DATED.dat");
+  CHECK(std::regex_search(
+      dat, std::regex(R"(; written 2[0-9]{3}-[0-9]{2}-[0-9]{2} [0-9:]{8} UTC\r\n)")));
+  CHECK(read_bytes(dir.path / "DATED.src").find("UTC") == std::string::npos);
+}
