@@ -1,4 +1,4 @@
-// Fuzz target: the calibration readings CSV (calibration_csv.hpp), read against the Andres 2011
+// Fuzz target: the calibration readings CSV (calibration/readings_csv.hpp), read against the Andres 2011
 // cell (both forms: commanded pose with q1,q2, and all nine joints).
 #include "fuzz_support.hpp"
 #include "redpost/calibration/readings_csv.hpp"

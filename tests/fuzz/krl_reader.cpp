@@ -1,4 +1,4 @@
-// Fuzz target: the KRL reader (krl_reader.hpp), which reads files: the input is written into a
+// Fuzz target: the KRL reader (krl/reader.hpp), which reads files: the input is written into a
 // scratch directory as a small program and read back with read_krl_program.
 //
 // Input layout: the text up to the first section line is PROG.src; a line "@@ NAME.src" or

@@ -1,4 +1,4 @@
-// Fuzz target: the KRL template loader (krl_template.hpp). A template set it accepts then writes
+// Fuzz target: the KRL template loader (krl/template.hpp). A template set it accepts then writes
 // a small split program (every statement kind once) into a scratch directory, so that the
 // writer's placeholder substitution sees the fuzzed templates too.
 #include <cmath>

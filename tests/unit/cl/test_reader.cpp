@@ -1,4 +1,4 @@
-// The APT/CLDATA and NX CLSF reader (cl_reader.cpp): every record it accepts, checked on small
+// The APT/CLDATA and NX CLSF reader (core/src/cl/): every record it accepts, checked on small
 // inline inputs whose expected events are worked out by hand; arcs and NURBS checked against
 // the geometry they stand for (points on the curve, sagitta, direction) with an independent
 // evaluation; every refused input checked for its line, column and message; and the real CL
