@@ -1,5 +1,5 @@
-// Fuzz target: the calibration readings CSV (calibration/readings_csv.hpp), read against the Andres 2011
-// cell (both forms: commanded pose with q1,q2, and all nine joints).
+// Fuzz target: the calibration readings CSV (calibration/readings_csv.hpp), read against the Andres
+// 2011 cell (both forms: commanded pose with q1,q2, and all nine joints).
 #include "fuzz_support.hpp"
 #include "redpost/calibration/readings_csv.hpp"
 #include "redpost/kinematics/cell_xml.hpp"
