@@ -1,7 +1,7 @@
 // Physical lines of a CL file, read through a fixed buffer so that a line is never longer in
 // memory than the limit the caller sets (a 2 GB file without a newline must not be slurped).
 //
-// Internal to the CL reader (cl_reader.cpp); not installed.
+// Internal to the CL reader (cl/record.cpp reads through it); not installed.
 #pragma once
 
 #include <cstddef>

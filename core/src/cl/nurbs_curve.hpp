@@ -9,7 +9,7 @@
 // the span U[k] <= t < U[k+1] in p affine rounds and divides by w at the end (Piegl & Tiller,
 // "The NURBS Book", algorithms A2.1 and A4.1).
 //
-// Internal to the CL reader (cl_reader.cpp); not installed.
+// Internal to the CL reader (cl/nurbs.cpp); not installed.
 #pragma once
 
 #include <algorithm>
