@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/identification.hpp"
+#include "redpost/calibration/validation.hpp"
 
 namespace redpost::cli {
 

@@ -2,7 +2,9 @@
 // parameters of Andres eq. 5, sigma = 0.035 mm. The budget is 50 ms for the 108-point case.
 #include <benchmark/benchmark.h>
 
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/identification.hpp"
+#include "redpost/calibration/parameters.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/calibration/readings_csv.hpp"
 #include "test_support.hpp"
 

@@ -179,6 +179,152 @@ void compose_link(const Cell& cell, int i, double q, Eigen::Matrix3d& R, Eigen::
   }
 }
 
+// The links before the arm ({B} -> the frame the A1 link starts from) and after it (the
+// last arm frame -> TCP: fixed frames, the virtual spin), at q_other.
+void links_around_arm(const Cell& cell, const std::array<int, 6>& j, const JointVector& q_other,
+                      Isometry& T_B_pre, Isometry& T_6_tcp) {
+  Eigen::Matrix3d R = cell.T_B_0.linear();
+  Eigen::Vector3d p = cell.T_B_0.translation();
+  for (int i = 0; i < j[0]; ++i)
+    compose_link(cell, i, q_other[i], R, p);
+  T_B_pre = Isometry::Identity();
+  T_B_pre.linear() = R;
+  T_B_pre.translation() = p;
+  R.setIdentity();
+  p.setZero();
+  for (int i = j[5] + 1; i < cell.size(); ++i)
+    compose_link(cell, i, q_other[i], R, p);
+  T_6_tcp = Isometry::Identity();
+  T_6_tcp.linear() = R;
+  T_6_tcp.translation() = p;
+  if (cell.has_tcp_frame)
+    T_6_tcp = T_6_tcp * cell.T_last_tcp;
+}
+
+// A2, A3: the wrist (ux, uy) in the arm plane from the A2 axis, D = l2 + l3 exp(i psi) rotated.
+// psi: the fold at A3; eta: the angle from l2 to the A2 -> wrist line; both for elbow 0 (they
+// change sign with the elbow). False when the wrist is beyond reach (or within the inner dead
+// zone).
+struct ArmPlaneAngles {
+  double arg_d = 0.0;  // direction of the A2 -> wrist line
+  double psi_abs = 0.0;
+  double eta_abs = 0.0;
+};
+
+bool arm_plane_angles(double ux, double uy, double l2, double l3, ArmPlaneAngles& out) {
+  double cpsi = (ux * ux + uy * uy - l2 * l2 - l3 * l3) / (2.0 * l2 * l3);
+  if (cpsi > 1.0 + kReachTol || cpsi < -1.0 - kReachTol)
+    return false;
+  cpsi = cpsi > 1.0 ? 1.0 : (cpsi < -1.0 ? -1.0 : cpsi);
+  const double spsi_abs = std::sqrt(1.0 - cpsi * cpsi);
+  out.arg_d = std::atan2(uy, ux);
+  out.psi_abs = std::atan2(spsi_abs, cpsi);
+  out.eta_abs = std::atan2(l3 * spsi_abs, l2 + l3 * cpsi);
+  return true;
+}
+
+// A4..A6 as Rw = Rz(alpha) Ry(beta) Rz(gamma), Rw the wrist rotation in the wrist basis E.
+struct WristAngles {
+  double alpha = 0.0, beta = 0.0, gamma = 0.0;
+};
+
+// alpha_near: the alpha of q_near, kept where A5 = 0 leaves only A4 + A6 defined.
+WristAngles wrist_angles(const Eigen::Matrix3d& Rw, double alpha_near) {
+  const double h = std::sqrt(Rw(0, 2) * Rw(0, 2) + Rw(1, 2) * Rw(1, 2));
+  double alpha = 0.0, ca = 1.0, sa = 0.0;
+  if (h > kWristSingular) {
+    alpha = std::atan2(Rw(1, 2), Rw(0, 2));
+    ca = Rw(0, 2) / h, sa = Rw(1, 2) / h;
+  } else {  // A5 = 0: only A4 + A6 is defined; A4 keeps its q_near value
+    alpha = alpha_near;
+    detail::sincos_one(alpha, sa, ca);
+  }
+  // Rz(-alpha) Rw = Ry(beta) Rz(gamma): beta and gamma from it, consistent with alpha even
+  // where alpha itself is ill-conditioned (near A5 = 0). At the singularity beta is set to
+  // exactly 0, so that A5 is the reference value (A5 = 0) and the flip below duplicates
+  // the same posture instead of landing in a slot decided by rounding.
+  const double beta =
+      h > kWristSingular ? std::atan2(ca * Rw(0, 2) + sa * Rw(1, 2), Rw(2, 2)) : 0.0;
+  const double gamma = std::atan2(-sa * Rw(0, 0) + ca * Rw(1, 0), -sa * Rw(0, 1) + ca * Rw(1, 1));
+  return {alpha, beta, gamma};
+}
+
+// The arm joint values qa for the displacements d from the reference posture q_arm_ref;
+// false when some joint has no 2*pi-equivalent within its limits.
+bool arm_joint_values(const Cell& cell, const std::array<int, 6>& j, const ArmStatusModel& model,
+                      const std::array<double, 6>& q_arm_ref, const JointVector& near,
+                      const double (&d)[6], double (&qa)[6]) {
+  bool within = true;
+  for (int k = 0; k < 6; ++k) {
+    const int i = j[static_cast<size_t>(k)];
+    const Joint& joint = cell.joint(i);
+    double v = q_arm_ref[static_cast<size_t>(k)] + d[k];
+    // Status-bearing joints first in a canonical range: A3 within 180 deg of phi (its
+    // elbow bit), A5 in (-180, 180] (its flip bit); the others near q_near.
+    if (k == 2) {
+      const double a_deg = to_axis_value(joint, v) - (model.phi_deg - 180.0);
+      v -= joint.axis.sign * kTwoPi * floor_fast(a_deg / 360.0);
+    } else if (k == 4) {
+      const double a_deg = to_axis_value(joint, v);
+      v -= joint.axis.sign * kTwoPi * ceil_fast((a_deg - 180.0) / 360.0);
+    }
+    bool in_limits = false;
+    qa[k] = nearest_equivalent(v, joint.lower, joint.upper, near[i], in_limits);
+    within = within && in_limits;
+  }
+  return within;
+}
+
+// The slot is the Status that status_turn() gives the returned q; rho is the signed distance
+// of the wrist from the A1 axis (negative: overhead area).
+int posture_status(const Cell& cell, const std::array<int, 6>& j, const ArmStatusModel& model,
+                   const JointVector& q_other, const double (&qa)[6], double rho) {
+  int bits = 0;
+  if (to_axis_value(cell.joint(j[2]), qa[2]) >= model.phi_deg)
+    bits |= 2;
+  if (to_axis_value(cell.joint(j[4]), qa[4]) < 0.0)
+    bits |= 4;
+  if (std::abs(rho) > kStatusBit0TieMm) {
+    bits |= rho < 0.0 ? 1 : 0;
+  } else {
+    JointVector qc = q_other;
+    for (int k = 0; k < 6; ++k)
+      qc[j[static_cast<size_t>(k)]] = qa[k];
+    bits |= wrist_x_in_a1_frame_mm(cell, model, qc) < 0.0 ? 1 : 0;
+  }
+  return bits;
+}
+
+// The frame after A3 in {B}, for the round trip: shared by both wrist flips.
+struct FrameAfterA3 {
+  bool have = false;
+  Eigen::Matrix3d R;
+  Eigen::Vector3d p;
+};
+
+// Round trip through the cell's own links (not the product of exponentials of solve()).
+bool round_trip_ok(const Cell& cell, const std::array<int, 6>& j, const Isometry& T_B_pre,
+                   const Isometry& T_6_tcp, const Isometry& T_B_tcp, const double (&qa)[6],
+                   FrameAfterA3& after_a3) {
+  if (!after_a3.have) {
+    after_a3.R = T_B_pre.linear();
+    after_a3.p = T_B_pre.translation();
+    for (int k = 0; k < 3; ++k)
+      compose_link(cell, j[static_cast<size_t>(k)], qa[k], after_a3.R, after_a3.p);
+    after_a3.have = true;
+  }
+  Eigen::Matrix3d R = after_a3.R;
+  Eigen::Vector3d p = after_a3.p;
+  for (int k = 3; k < 6; ++k)
+    compose_link(cell, j[static_cast<size_t>(k)], qa[k], R, p);
+  p += R * T_6_tcp.translation();
+  R = R * T_6_tcp.linear();
+  const double dp = (p - T_B_tcp.translation()).norm();
+  // ||R1 - R2||_F = 2 sqrt(2) |sin(angle / 2)|
+  const double dr = (R - T_B_tcp.linear()).norm() * (1.0 / std::sqrt(2.0));
+  return dp < kRoundTripMm && dr < kRoundTripRad;
+}
+
 }  // namespace
 
 ArmIk::ArmIk(const Cell& cell) : cell_(&cell), status_model_(make_arm_status_model(cell)) {
@@ -292,24 +438,8 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
   const JointVector& near = q_near != nullptr ? *q_near : g.q_home;
   ArmIkSolutions out;
 
-  // The links before the arm ({B} -> the frame the A1 link starts from) and after it (the
-  // last arm frame -> TCP: fixed frames, the virtual spin), at q_other.
-  Eigen::Matrix3d R = cell.T_B_0.linear();
-  Eigen::Vector3d p = cell.T_B_0.translation();
-  for (int i = 0; i < j[0]; ++i)
-    compose_link(cell, i, q_other[i], R, p);
-  Isometry T_B_pre = Isometry::Identity();
-  T_B_pre.linear() = R;
-  T_B_pre.translation() = p;
-  R.setIdentity();
-  p.setZero();
-  for (int i = j[5] + 1; i < cell.size(); ++i)
-    compose_link(cell, i, q_other[i], R, p);
-  Isometry T_6_tcp = Isometry::Identity();
-  T_6_tcp.linear() = R;
-  T_6_tcp.translation() = p;
-  if (cell.has_tcp_frame)
-    T_6_tcp = T_6_tcp * cell.T_last_tcp;
+  Isometry T_B_pre, T_6_tcp;
+  links_around_arm(cell, j, q_other, T_B_pre, T_6_tcp);
   // exp(S1 d1) ... exp(S6 d6) in {C}: T_C_a0 P^-1 T_B_tcp T_6_tcp^-1 M0^-1 T_a0_C, with
   // P = T_B_pre T_pre_a0 the frame a0 at q_other.
   const Isometry H = (T_B_pre * g.T_pre_C).inverse(Eigen::Isometry) * T_B_tcp *
@@ -327,27 +457,17 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
     detail::sincos_one(phi1, s1, c1);
   }
 
-  const double l2 = g.l2_mm, l3 = g.l3_mm;
   for (int shoulder = 0; shoulder < 2; ++shoulder) {
     // shoulder 1: A1 turned by pi, the wrist behind the A1 axis (overhead area).
     const double rho = shoulder == 0 ? r : -r;
     const double d1 = shoulder == 0 ? phi1 : phi1 + kPi;
     const double cd1 = shoulder == 0 ? c1 : -c1, sd1 = shoulder == 0 ? s1 : -s1;
-    // A2, A3: the wrist in the arm plane from the A2 axis, D = l2 + l3 exp(i psi) rotated.
-    const double ux = rho - g.a1_mm, uy = -g.sigma2 * w.z();
-    double cpsi = (ux * ux + uy * uy - l2 * l2 - l3 * l3) / (2.0 * l2 * l3);
-    if (cpsi > 1.0 + kReachTol || cpsi < -1.0 - kReachTol)
+    ArmPlaneAngles a23;
+    if (!arm_plane_angles(rho - g.a1_mm, -g.sigma2 * w.z(), g.l2_mm, g.l3_mm, a23))
       continue;  // beyond reach (or within the inner dead zone) for this shoulder
-    cpsi = cpsi > 1.0 ? 1.0 : (cpsi < -1.0 ? -1.0 : cpsi);
-    const double spsi_abs = std::sqrt(1.0 - cpsi * cpsi);
-    const double arg_d = std::atan2(uy, ux);
-    // psi: the fold at A3; eta: the angle from l2 to the A2 -> wrist line. Both change sign
-    // with the elbow.
-    const double psi_abs = std::atan2(spsi_abs, cpsi);
-    const double eta_abs = std::atan2(l3 * spsi_abs, l2 + l3 * cpsi);
     for (int elbow = 0; elbow < 2; ++elbow) {
-      const double psi = elbow == 0 ? psi_abs : -psi_abs;
-      const double d2 = arg_d - g.arg_l2 - (elbow == 0 ? eta_abs : -eta_abs);
+      const double psi = elbow == 0 ? a23.psi_abs : -a23.psi_abs;
+      const double d2 = a23.arg_d - g.arg_l2 - (elbow == 0 ? a23.eta_abs : -a23.eta_abs);
       const double d3 = g.sigma3 * (psi - g.arg_l3 + g.arg_l2);
       // Rotation of A1..A3: Rz(d1) * Ry(sigma2 * (d2 + sigma3 d3)) in {C}.
       double s23 = 0.0, c23 = 1.0;
@@ -358,71 +478,21 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
           -s23, 0.0, c23;
       // A4..A6: Rz(d4) Ry(d5) Rz(eps6 d6) in the wrist basis E.
       const Eigen::Matrix3d Rw = g.E_wrist.transpose() * (R123.transpose() * R_H) * g.E_wrist;
-      const double h = std::sqrt(Rw(0, 2) * Rw(0, 2) + Rw(1, 2) * Rw(1, 2));
-      double alpha = 0.0, ca = 1.0, sa = 0.0;
-      if (h > kWristSingular) {
-        alpha = std::atan2(Rw(1, 2), Rw(0, 2));
-        ca = Rw(0, 2) / h, sa = Rw(1, 2) / h;
-      } else {  // A5 = 0: only A4 + A6 is defined; A4 keeps its q_near value
-        alpha = near[j[3]] - g.q_arm_ref[3];
-        detail::sincos_one(alpha, sa, ca);
-      }
-      // Rz(-alpha) Rw = Ry(beta) Rz(gamma): beta and gamma from it, consistent with alpha even
-      // where alpha itself is ill-conditioned (near A5 = 0). At the singularity beta is set to
-      // exactly 0, so that A5 is the reference value (A5 = 0) and the flip below duplicates
-      // the same posture instead of landing in a slot decided by rounding.
-      const double beta =
-          h > kWristSingular ? std::atan2(ca * Rw(0, 2) + sa * Rw(1, 2), Rw(2, 2)) : 0.0;
-      const double gamma =
-          std::atan2(-sa * Rw(0, 0) + ca * Rw(1, 0), -sa * Rw(0, 1) + ca * Rw(1, 1));
+      const WristAngles a = wrist_angles(Rw, near[j[3]] - g.q_arm_ref[3]);
 
-      // The frame after A3 in {B}, for the round trip: shared by both wrist flips.
-      bool have_T3 = false;
-      Eigen::Matrix3d R3;
-      Eigen::Vector3d p3;
+      FrameAfterA3 after_a3;
       for (int flip = 0; flip < 2; ++flip) {
         // The wrist flip: (alpha + pi, -beta, gamma + pi) gives the same rotation.
         const double d[6] = {d1,
                              d2,
                              d3,
-                             flip == 0 ? alpha : alpha + kPi,
-                             flip == 0 ? beta : -beta,
-                             g.epsilon6 * (flip == 0 ? gamma : gamma + kPi)};
+                             flip == 0 ? a.alpha : a.alpha + kPi,
+                             flip == 0 ? a.beta : -a.beta,
+                             g.epsilon6 * (flip == 0 ? a.gamma : a.gamma + kPi)};
         double qa[6];
-        bool within = true;
-        for (int k = 0; k < 6; ++k) {
-          const int i = j[static_cast<size_t>(k)];
-          const Joint& joint = cell.joint(i);
-          double v = g.q_arm_ref[static_cast<size_t>(k)] + d[k];
-          // Status-bearing joints first in a canonical range: A3 within 180 deg of phi (its
-          // elbow bit), A5 in (-180, 180] (its flip bit); the others near q_near.
-          if (k == 2) {
-            const double a_deg = to_axis_value(joint, v) - (status_model_.phi_deg - 180.0);
-            v -= joint.axis.sign * kTwoPi * floor_fast(a_deg / 360.0);
-          } else if (k == 4) {
-            const double a_deg = to_axis_value(joint, v);
-            v -= joint.axis.sign * kTwoPi * ceil_fast((a_deg - 180.0) / 360.0);
-          }
-          bool in_limits = false;
-          qa[k] = nearest_equivalent(v, joint.lower, joint.upper, near[i], in_limits);
-          within = within && in_limits;
-        }
-
-        // The slot is the Status that status_turn() gives the returned q.
-        int status = 0;
-        if (to_axis_value(cell.joint(j[2]), qa[2]) >= status_model_.phi_deg)
-          status |= 2;
-        if (to_axis_value(cell.joint(j[4]), qa[4]) < 0.0)
-          status |= 4;
-        if (std::abs(rho) > kStatusBit0TieMm) {
-          status |= rho < 0.0 ? 1 : 0;
-        } else {
-          JointVector qc = q_other;
-          for (int k = 0; k < 6; ++k)
-            qc[j[static_cast<size_t>(k)]] = qa[k];
-          status |= wrist_x_in_a1_frame_mm(cell, status_model_, qc) < 0.0 ? 1 : 0;
-        }
-        const size_t slot = static_cast<size_t>(status);
+        const bool within = arm_joint_values(cell, j, status_model_, g.q_arm_ref, near, d, qa);
+        const size_t slot =
+            static_cast<size_t>(posture_status(cell, j, status_model_, q_other, qa, rho));
         if (out.exists[slot])
           continue;  // a degenerate posture met twice (A5 = 0, stretched arm): keep the first
         out.exists[slot] = true;
@@ -432,25 +502,7 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
           qs[j[static_cast<size_t>(k)]] = qa[k];
         if (!within)
           continue;
-
-        // Round trip through the cell's own links (not the product of exponentials above).
-        if (!have_T3) {
-          R3 = T_B_pre.linear();
-          p3 = T_B_pre.translation();
-          for (int k = 0; k < 3; ++k)
-            compose_link(cell, j[static_cast<size_t>(k)], qa[k], R3, p3);
-          have_T3 = true;
-        }
-        R = R3;
-        p = p3;
-        for (int k = 3; k < 6; ++k)
-          compose_link(cell, j[static_cast<size_t>(k)], qa[k], R, p);
-        p += R * T_6_tcp.translation();
-        R = R * T_6_tcp.linear();
-        const double dp = (p - T_B_tcp.translation()).norm();
-        // ||R1 - R2||_F = 2 sqrt(2) |sin(angle / 2)|
-        const double dr = (R - T_B_tcp.linear()).norm() * (1.0 / std::sqrt(2.0));
-        out.valid[slot] = dp < kRoundTripMm && dr < kRoundTripRad;
+        out.valid[slot] = round_trip_ok(cell, j, T_B_pre, T_6_tcp, T_B_tcp, qa, after_a3);
       }
     }
   }

@@ -1,3 +1,5 @@
+// The placement job file (placement_job.hpp): a strict reader of its XML, one function per
+// section. docs/placement.md.
 #include "redpost/machining/placement_job.hpp"
 
 #include <tinyxml2.h>
@@ -174,58 +176,48 @@ void check_algorithm(const JobReader& r, const XMLElement* e, const char* attr,
                 ")");
 }
 
-}  // namespace
-
-PlacementJob parse_placement_job(const std::string& xml_text, const std::string& source_name) {
-  const JobReader r(source_name);
-  tinyxml2::XMLDocument doc;
-  const XMLElement* root = r.parse(doc, xml_text, "placement_job");
-  r.only_attributes(root, {"format"});
-  if (std::string(r.required(root, "format")) != "1")
-    r.fail(root, "unsupported <placement_job> format (this redpost reads format=\"1\")");
-  r.only_children(root, {"cell", "tool", "cutting", "contour", "work_volume", "constraints", "spin",
-                         "optimiser", "program"});
-
-  PlacementJob job;
-  job.source_file = source_name;
-
-  // The cell, relative to the job file.
+// <cell>: the cell file, relative to the job file; it must suit the placement.
+void read_cell(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   const XMLElement* ce = r.child(root, "cell", true);
   r.only_attributes(ce, {"file"});
-  {
-    const std::filesystem::path rel = r.required(ce, "file");
-    const std::filesystem::path base = std::filesystem::path(source_name).parent_path();
-    job.cell_file = (rel.is_absolute() ? rel : base / rel).lexically_normal().string();
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(job.cell_file, ec)) {
-      r.fail(ce, "the cell file '" + job.cell_file + "' does not exist (paths are relative to " +
-                     "the job file)");
-    }
-    job.cell = load_cell(job.cell_file);
-    try {
-      compliant_joints(job.cell);
-    } catch (const Error& e) {
-      r.fail(ce, "the cell '" + job.cell_file + "' cannot be used for placement: " + e.message());
-    }
-    if (!job.cell.conditioning.declared() || job.cell.conditioning.count() != 6)
-      r.fail(ce, "the cell '" + job.cell_file + "' needs a <conditioning> over its six arm joints");
-    int spins = 0;
-    for (int i = 0; i < job.cell.size(); ++i)
-      spins += job.cell.joint(i).type == JointType::virtual_spin;
-    if (spins != 1 || job.cell.joint(job.cell.size() - 1).type != JointType::virtual_spin ||
-        job.cell.has_tcp_frame) {
-      r.fail(ce, "the cell '" + job.cell_file + "' must end with its tool spin beta as the " +
-                     "last joint (virtual, no tool frame after it), as caro2014_kr270_table does");
-    }
+  const std::filesystem::path rel = r.required(ce, "file");
+  const std::filesystem::path base = std::filesystem::path(job.source_file).parent_path();
+  job.cell_file = (rel.is_absolute() ? rel : base / rel).lexically_normal().string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(job.cell_file, ec)) {
+    r.fail(ce, "the cell file '" + job.cell_file + "' does not exist (paths are relative to " +
+                   "the job file)");
   }
+  job.cell = load_cell(job.cell_file);
+  try {
+    compliant_joints(job.cell);
+  } catch (const Error& e) {
+    r.fail(ce, "the cell '" + job.cell_file + "' cannot be used for placement: " + e.message());
+  }
+  if (!job.cell.conditioning.declared() || job.cell.conditioning.count() != 6)
+    r.fail(ce, "the cell '" + job.cell_file + "' needs a <conditioning> over its six arm joints");
+  int spins = 0;
+  for (int i = 0; i < job.cell.size(); ++i)
+    spins += job.cell.joint(i).type == JointType::virtual_spin;
+  if (spins != 1 || job.cell.joint(job.cell.size() - 1).type != JointType::virtual_spin ||
+      job.cell.has_tcp_frame) {
+    r.fail(ce, "the cell '" + job.cell_file + "' must end with its tool spin beta as the " +
+                   "last joint (virtual, no tool frame after it), as caro2014_kr270_table does");
+  }
+}
 
+// <tool>: the milling tool.
+void read_tool(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   const XMLElement* te = r.child(root, "tool", true);
   r.only_attributes(te, {"diameter", "teeth"});
   job.milling.tool_diameter_mm = r.positive(te, "diameter", r.length_mm(te, "diameter"));
   job.milling.teeth = r.integer(te, "teeth", 0, 1, 100);
   if (job.milling.teeth == 0)
     r.required(te, "teeth");
+}
 
+// <cutting>: the cutting conditions and the side of the material.
+void read_cutting(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   const XMLElement* cu = r.child(root, "cutting", true);
   r.only_attributes(cu, {"spindle_rpm", "feed", "fz", "ap", "kt", "kr", "material"});
   job.spindle_rpm = r.positive(cu, "spindle_rpm", r.plain(cu, "spindle_rpm", 0.0));
@@ -246,7 +238,11 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
     else
       r.fail(cu, "<cutting> material must be left or right (of the feed direction)");
   }
+}
 
+// <contour>: the start point and the segments of the planar contour, each checked as milling
+// conditions.
+void read_contour(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   const XMLElement* co = r.child(root, "contour", true);
   r.only_attributes(co, {"points_per_segment", "mode"});
   r.only_children(co, {"start", "segment"});
@@ -298,7 +294,10 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
       r.fail(seg.source_line, "segment " + seg.name + ": " + e.message());
     }
   }
+}
 
+// <work_volume>: the bounds of problem (5.17).
+void read_work_volume(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   const XMLElement* wv = r.child(root, "work_volume", true);
   r.only_attributes(wv, {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max", "q4_min", "q4_max"});
   WorkVolume& v = job.volume;
@@ -320,7 +319,10 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
   check_range(v.q4_min, v.q4_max, "q4");
   if (v.q4_min < -1.0 || v.q4_max > 1.0)
     r.fail(wv, "<work_volume> q4 must lie in [-1, 1] (eq. 5.17)");
+}
 
+// <constraints> (optional): the constraints of problem (5.17).
+void read_constraints(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   if (const XMLElement* c = r.child(root, "constraints", false)) {
     r.only_attributes(c, {"c_max", "inv_kappa_min", "complementary"});
     job.constraints.c_max_mm =
@@ -330,7 +332,10 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
       r.fail(c, "<constraints> inv_kappa_min must lie in [0, 1)");
     job.constraints.complementary = r.boolean(c, "complementary", false);
   }
+}
 
+// <spin> (optional): the spin grid of the inner problem.
+void read_spin(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   if (const XMLElement* s = r.child(root, "spin", false)) {
     r.only_attributes(s, {"step", "max_step", "max_joint_step"});
     SpinSettings& sp = job.spin;
@@ -345,7 +350,10 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
     if (sp.max_step_rad < 0.0)
       r.fail(s, "<spin> max_step must not be negative");
   }
+}
 
+// <optimiser> (optional): the NLopt algorithms and their budgets.
+void read_optimiser(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   if (const XMLElement* o = r.child(root, "optimiser", false)) {
     r.only_attributes(o, {"global", "global_evaluations", "population", "local",
                           "local_evaluations", "seed", "history_batch", "threads"});
@@ -366,7 +374,10 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
     op.history_batch = r.integer(o, "history_batch", op.history_batch, 1, 10000000);
     op.threads = r.integer(o, "threads", op.threads, 1, 2);
   }
+}
 
+// <program> (optional): the KRL program written for the placement.
+void read_program(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   if (const XMLElement* p = r.child(root, "program", false)) {
     r.only_attributes(p, {"name", "retract"});
     if (p->Attribute("name"))
@@ -375,6 +386,32 @@ PlacementJob parse_placement_job(const std::string& xml_text, const std::string&
     if (job.program.retract_mm < 0.0)
       r.fail(p, "<program> retract must not be negative");
   }
+}
+
+}  // namespace
+
+PlacementJob parse_placement_job(const std::string& xml_text, const std::string& source_name) {
+  const JobReader r(source_name);
+  tinyxml2::XMLDocument doc;
+  const XMLElement* root = r.parse(doc, xml_text, "placement_job");
+  r.only_attributes(root, {"format"});
+  if (std::string(r.required(root, "format")) != "1")
+    r.fail(root, "unsupported <placement_job> format (this redpost reads format=\"1\")");
+  r.only_children(root, {"cell", "tool", "cutting", "contour", "work_volume", "constraints", "spin",
+                         "optimiser", "program"});
+
+  PlacementJob job;
+  job.source_file = source_name;
+
+  read_cell(r, root, job);
+  read_tool(r, root, job);
+  read_cutting(r, root, job);
+  read_contour(r, root, job);
+  read_work_volume(r, root, job);
+  read_constraints(r, root, job);
+  read_spin(r, root, job);
+  read_optimiser(r, root, job);
+  read_program(r, root, job);
   return job;
 }
 

@@ -5,8 +5,13 @@
 #include <random>
 
 #include "catch_compat.hpp"
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/identification.hpp"
+#include "redpost/calibration/measurement.hpp"
+#include "redpost/calibration/observability.hpp"
+#include "redpost/calibration/parameters.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/calibration/program.hpp"
+#include "redpost/calibration/validation.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"

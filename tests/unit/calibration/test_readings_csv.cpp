@@ -3,7 +3,9 @@
 #include <vector>
 
 #include "catch_compat.hpp"
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/identification.hpp"
+#include "redpost/calibration/parameters.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/calibration/readings_csv.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"

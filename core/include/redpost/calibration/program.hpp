@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/krl/template.hpp"
 

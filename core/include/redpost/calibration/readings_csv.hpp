@@ -16,7 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "redpost/calibration/calibration.hpp"
+#include "redpost/calibration/parameters.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/kinematics/cell.hpp"
 
 namespace redpost {
