@@ -2,7 +2,6 @@
 #include "redpost/krl/check.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -12,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "io/text_util.hpp"
+#include "krl/text.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
@@ -23,20 +23,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string upper(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
-
-bool ident_start(char c) {
-  return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == '$';
-}
-bool ident_char(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';
-}
-
 using detail::trim;
+using krl::ident_char;
+using krl::ident_start;
+using krl::upper;
 
 // The code of a line: the comment (from ';' outside quotes) removed, and the contents of
 // "strings" and 'B010' literals blanked so that they are not read as identifiers.
@@ -213,81 +203,78 @@ std::string read_all(const std::string& path) {
   return read_text_file(path);
 }
 
-}  // namespace
+// The text checks of one file, fed line by line: what is open (DEFs, FOLDs) and what was found.
+struct TextCheck {
+  explicit TextCheck(const std::string& checked_file) : file(checked_file) {}
 
-std::vector<std::string> krl_declared_names(const std::string& text) {
-  std::vector<std::string> names;
-  for_each_line(text, [&](int, const std::string& line) {
-    const std::string code = code_of(line);
-    const std::vector<std::string> w = words(code);
-    if (!w.empty())
-      declaration(code, w, &names);
-  });
-  return names;
-}
-
-std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
-                                       const std::vector<std::string>& dat_declared,
-                                       const KrlCheckOptions& options) {
-  std::vector<KrlFinding> out;
-  auto find = [&](int line, std::string message) {
-    out.push_back({file, line, std::move(message)});
-  };
-  if (text.size() > options.max_bytes)
-    find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", text.size(),
-                        options.max_bytes));
-
-  std::set<std::string> declared(dat_declared.begin(), dat_declared.end());
-  for (const std::string& n : krl_declared_names(text))
-    declared.insert(n);
-
-  std::vector<int> folds;
-  std::vector<Block> blocks;
+  const std::string& file;
+  std::set<std::string> declared;  // in the file and its .dat
+  std::vector<int> folds;          // lines of the FOLDs open
+  std::vector<Block> blocks;       // the DEF, DEFFCT or DEFDAT open
   std::set<std::string> long_reported;
-  for_each_line(text, [&](int line_no, const std::string& line) {
+  std::vector<KrlFinding> out;
+
+  void find(int line, std::string message) { out.push_back({file, line, std::move(message)}); }
+
+  void check_line(int line_no, const std::string& line) {
     const std::string t = trim(line);
     if (t.empty() || t[0] == '&')
       return;
     if (t[0] == ';') {
-      const std::string u = upper(t);
-      if (u.rfind(";FOLD", 0) == 0) {
-        folds.push_back(line_no);
-      } else if (u.rfind(";ENDFOLD", 0) == 0) {
-        if (folds.empty())
-          find(line_no, "ENDFOLD without a matching FOLD");
-        else
-          folds.pop_back();
-      }
+      fold_comment(line_no, t);
       return;
     }
     const std::string code = code_of(line);
     const std::vector<std::string> w = words(code);
     if (w.empty())
       return;
+    identifier_lengths(line_no, code);
+    if (block_line(line_no, w))
+      return;
+    if (declaration_order(line_no, code, w))
+      return;
+    vel_cp(line_no, code);
+    if (motion_keywords().count(w[0]))
+      motion_targets(line_no, code, w[0]);
+  }
 
-    // Identifiers longer than 24 characters ($ system variables and #enum values excluded).
-    {
-      size_t i = 0;
-      while (i < code.size()) {
-        if (ident_start(code[i]) && (i == 0 || !ident_char(code[i - 1]))) {
-          size_t j = i;
-          while (j < code.size() && ident_char(code[j]))
-            ++j;
-          const bool system = code[i] == '$' || (i > 0 && code[i - 1] == '#');
-          const bool field = i > 0 && code[i - 1] == '.';
-          const std::string name = code.substr(i, j - i);
-          if (!system && !field && static_cast<int>(name.size()) > kKrlMaxIdentifierLength &&
-              long_reported.insert(upper(name)).second)
-            find(line_no, fmt::format("identifier '{}' has {} characters, more than {}", name,
-                                      name.size(), kKrlMaxIdentifierLength));
-          i = j;
-        } else {
-          ++i;
-        }
+  // FOLD/ENDFOLD pairs.
+  void fold_comment(int line_no, const std::string& t) {
+    const std::string u = upper(t);
+    if (u.rfind(";FOLD", 0) == 0) {
+      folds.push_back(line_no);
+    } else if (u.rfind(";ENDFOLD", 0) == 0) {
+      if (folds.empty())
+        find(line_no, "ENDFOLD without a matching FOLD");
+      else
+        folds.pop_back();
+    }
+  }
+
+  // Identifiers longer than 24 characters ($ system variables and #enum values excluded).
+  void identifier_lengths(int line_no, const std::string& code) {
+    size_t i = 0;
+    while (i < code.size()) {
+      if (ident_start(code[i]) && (i == 0 || !ident_char(code[i - 1]))) {
+        size_t j = i;
+        while (j < code.size() && ident_char(code[j]))
+          ++j;
+        const bool system = code[i] == '$' || (i > 0 && code[i - 1] == '#');
+        const bool field = i > 0 && code[i - 1] == '.';
+        const std::string name = code.substr(i, j - i);
+        if (!system && !field && static_cast<int>(name.size()) > kKrlMaxIdentifierLength &&
+            long_reported.insert(upper(name)).second)
+          find(line_no, fmt::format("identifier '{}' has {} characters, more than {}", name,
+                                    name.size(), kKrlMaxIdentifierLength));
+        i = j;
+      } else {
+        ++i;
       }
     }
+  }
 
-    // DEF/END blocks.
+  // DEF/END blocks. True for a line that opens or closes one.
+  bool block_line(int line_no, const std::vector<std::string>& w) {
     size_t k = w[0] == "GLOBAL" ? 1 : 0;
     const std::string first = k < w.size() ? w[k] : "";
     if (first == "DEF" || first == "DEFFCT" || first == "DEFDAT") {
@@ -304,7 +291,7 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
       b.line = line_no;
       blocks.clear();
       blocks.push_back(b);
-      return;
+      return true;
     }
     if (first == "END" || first == "ENDFCT" || first == "ENDDAT") {
       if (blocks.empty()) {
@@ -315,94 +302,132 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
                                     blocks.back().name, blocks.back().line));
         blocks.pop_back();
       }
-      return;
+      return true;
     }
+    return false;
+  }
 
-    // Declarations before statements.
+  // Declarations before statements. True for a declaration; notes the first statement.
+  bool declaration_order(int line_no, const std::string& code, const std::vector<std::string>& w) {
     if (declaration(code, w, nullptr)) {
       if (!blocks.empty() && blocks.back().kind != "DEFDAT" && blocks.back().first_statement > 0)
         find(line_no, fmt::format("declaration after the first statement (line {}): KRL "
                                   "requires declarations before statements",
                                   blocks.back().first_statement));
-      return;
+      return true;
     }
     if (!blocks.empty() && blocks.back().first_statement == 0)
       blocks.back().first_statement = line_no;
+    return false;
+  }
 
-    // $VEL.CP in (0, 2] m/s.
+  // $VEL.CP in (0, 2] m/s.
+  void vel_cp(int line_no, const std::string& code) {
     const std::string ucode = upper(code);
     const size_t vel = ucode.find("$VEL.CP");
-    if (vel != std::string::npos) {
-      size_t p = vel + 7;
-      while (p < ucode.size() && ucode[p] == ' ')
-        ++p;
-      if (p < ucode.size() && ucode[p] == '=' && (p + 1 >= ucode.size() || ucode[p + 1] != '=')) {
-        const char* begin = code.c_str() + p + 1;
-        char* end = nullptr;
-        const double v = std::strtod(begin, &end);
-        if (end != begin && trim(std::string(end)).empty() && (v <= 0.0 || v > kKrlMaxVelCp))
-          find(line_no, fmt::format("$VEL.CP = {} m/s is out of range (0, {}] m/s", trim(begin),
-                                    kKrlMaxVelCp));
-      }
+    if (vel == std::string::npos)
+      return;
+    size_t p = vel + 7;
+    while (p < ucode.size() && ucode[p] == ' ')
+      ++p;
+    if (p < ucode.size() && ucode[p] == '=' && (p + 1 >= ucode.size() || ucode[p + 1] != '=')) {
+      const char* begin = code.c_str() + p + 1;
+      char* end = nullptr;
+      const double v = std::strtod(begin, &end);
+      if (end != begin && trim(std::string(end)).empty() && (v <= 0.0 || v > kKrlMaxVelCp))
+        find(line_no, fmt::format("$VEL.CP = {} m/s is out of range (0, {}] m/s", trim(begin),
+                                  kKrlMaxVelCp));
     }
+  }
 
-    // Named motion targets must be declared.
-    if (motion_keywords().count(w[0])) {
-      const std::string after = code.substr(upper(code).find(w[0]) + w[0].size());
-      size_t p = 0;
-      int args = 0;
-      while (p < after.size() && args < 2) {
-        const char c = after[p];
-        if (c == ' ' || c == '\t' || c == ',') {
-          ++p;
-        } else if (c == '{') {
-          int depth = 0;
-          while (p < after.size()) {
-            if (after[p] == '{')
-              ++depth;
-            if (after[p] == '}' && --depth == 0)
-              break;
-            ++p;
-          }
-          ++p;
-          ++args;
-        } else if (ident_start(c)) {
-          size_t j = p;
-          while (j < after.size() && ident_char(after[j]))
-            ++j;
-          const std::string name = upper(after.substr(p, j - p));
-          if (motion_options().count(name))
+  // Named motion targets must be declared.
+  void motion_targets(int line_no, const std::string& code, const std::string& keyword) {
+    const std::string after = code.substr(upper(code).find(keyword) + keyword.size());
+    size_t p = 0;
+    int args = 0;
+    while (p < after.size() && args < 2) {
+      const char c = after[p];
+      if (c == ' ' || c == '\t' || c == ',') {
+        ++p;
+      } else if (c == '{') {
+        int depth = 0;
+        while (p < after.size()) {
+          if (after[p] == '{')
+            ++depth;
+          if (after[p] == '}' && --depth == 0)
             break;
-          ++args;
-          if (name[0] != '$' && !global_points().count(name) && !declared.count(name))
-            find(line_no,
-                 fmt::format("motion target '{}' is not declared (neither in this file nor in "
-                             "its .dat)",
-                             after.substr(p, j - p)));
-          p = j;
-          // Skip an index or a component: P[1], XP1.X
-          while (p < after.size() && (after[p] == '[' || after[p] == '.')) {
-            if (after[p] == '[') {
-              while (p < after.size() && after[p] != ']')
-                ++p;
-              ++p;
-            } else {
-              ++p;
-              while (p < after.size() && ident_char(after[p]))
-                ++p;
-            }
-          }
-        } else {
-          break;
+          ++p;
         }
+        ++p;
+        ++args;
+      } else if (ident_start(c)) {
+        size_t j = p;
+        while (j < after.size() && ident_char(after[j]))
+          ++j;
+        const std::string name = upper(after.substr(p, j - p));
+        if (motion_options().count(name))
+          break;
+        ++args;
+        if (name[0] != '$' && !global_points().count(name) && !declared.count(name))
+          find(line_no,
+               fmt::format("motion target '{}' is not declared (neither in this file nor in "
+                           "its .dat)",
+                           after.substr(p, j - p)));
+        p = skip_index_or_component(after, j);
+      } else {
+        break;
       }
     }
+  }
+
+  // Skips an index or a component: P[1], XP1.X
+  static size_t skip_index_or_component(const std::string& after, size_t p) {
+    while (p < after.size() && (after[p] == '[' || after[p] == '.')) {
+      if (after[p] == '[') {
+        while (p < after.size() && after[p] != ']')
+          ++p;
+        ++p;
+      } else {
+        ++p;
+        while (p < after.size() && ident_char(after[p]))
+          ++p;
+      }
+    }
+    return p;
+  }
+};
+
+}  // namespace
+
+std::vector<std::string> krl_declared_names(const std::string& text) {
+  std::vector<std::string> names;
+  for_each_line(text, [&](int, const std::string& line) {
+    const std::string code = code_of(line);
+    const std::vector<std::string> w = words(code);
+    if (!w.empty())
+      declaration(code, w, &names);
   });
-  for (const Block& b : blocks)
-    find(b.line, fmt::format("{} {} has no {}", b.kind, b.name, closing_of(b.kind)));
-  for (int l : folds)
-    find(l, "FOLD without a matching ENDFOLD");
-  return out;
+  return names;
+}
+
+std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
+                                       const std::vector<std::string>& dat_declared,
+                                       const KrlCheckOptions& options) {
+  TextCheck c(file);
+  if (text.size() > options.max_bytes)
+    c.find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", text.size(),
+                          options.max_bytes));
+
+  c.declared.insert(dat_declared.begin(), dat_declared.end());
+  for (const std::string& n : krl_declared_names(text))
+    c.declared.insert(n);
+
+  for_each_line(text, [&](int line_no, const std::string& line) { c.check_line(line_no, line); });
+  for (const Block& b : c.blocks)
+    c.find(b.line, fmt::format("{} {} has no {}", b.kind, b.name, closing_of(b.kind)));
+  for (int l : c.folds)
+    c.find(l, "FOLD without a matching ENDFOLD");
+  return std::move(c.out);
 }
 
 std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,

@@ -1,8 +1,9 @@
-// Comparing two KRL programs motion by motion (docs/krl-diff.md).
+// Comparing two KRL programs motion by motion (docs/krl-diff.md): the targets made complete,
+// the motions aligned (by keys, krl/diff_align.hpp) and each aligned pair compared; the main
+// programs of a directory. The reports are written by diff_report.cpp.
 #include "redpost/krl/diff.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -14,6 +15,8 @@
 #include <fmt/format.h>
 #include <Eigen/Geometry>
 
+#include "krl/diff_align.hpp"
+#include "krl/text.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/kuka_abc.hpp"
@@ -53,11 +56,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Below this the orientation deviation is rounding noise of the rotation matrices (deg).
 constexpr double kAngleNoiseDeg = 1e-9;
 
-std::string upper(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return s;
-}
+using krl::ident_char;
+using krl::ident_start;
+using krl::upper;
 
 // A motion with its target made complete: fields a partial aggregate leaves out keep the value
 // of the previous target of the same kind (KRL takes them from the current position).
@@ -171,155 +172,6 @@ uint64_t motion_key(const Pose& p, bool with_cl) {
   }
   return h;
 }
-
-// ---- Myers' O(ND) difference in linear space (the bisection of diff-match-patch) -------------
-
-enum class Op : uint8_t { match, del, ins };
-struct Step {
-  Op op;
-  uint32_t i;  // index in A (match, del)
-  uint32_t j;  // index in B (match, ins)
-};
-
-class Differ {
- public:
-  Differ(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) : a_(a), b_(b) {}
-
-  std::vector<Step> run() {
-    struct Task {
-      bool emit_matches;
-      size_t a0, a1, b0, b1;
-    };
-    std::vector<Task> stack{{false, 0, a_.size(), 0, b_.size()}};
-    while (!stack.empty()) {
-      Task t = stack.back();
-      stack.pop_back();
-      if (t.emit_matches) {
-        for (size_t k = 0; k < t.a1 - t.a0; ++k)
-          out_.push_back({Op::match, u32(t.a0 + k), u32(t.b0 + k)});
-        continue;
-      }
-      // Common prefix, then common suffix (emitted after the middle).
-      while (t.a0 < t.a1 && t.b0 < t.b1 && a_[t.a0] == b_[t.b0]) {
-        out_.push_back({Op::match, u32(t.a0), u32(t.b0)});
-        ++t.a0;
-        ++t.b0;
-      }
-      size_t s = 0;
-      while (t.a1 - s > t.a0 && t.b1 - s > t.b0 && a_[t.a1 - s - 1] == b_[t.b1 - s - 1])
-        ++s;
-      if (s > 0)
-        stack.push_back({true, t.a1 - s, t.a1, t.b1 - s, t.b1});
-      t.a1 -= s;
-      t.b1 -= s;
-      if (t.a0 == t.a1 || t.b0 == t.b1) {
-        emit_mismatch(t.a0, t.a1, t.b0, t.b1);
-        continue;
-      }
-      size_t x = 0, y = 0;
-      if (!bisect(t.a0, t.a1, t.b0, t.b1, x, y)) {
-        emit_mismatch(t.a0, t.a1, t.b0, t.b1);
-        continue;
-      }
-      stack.push_back({false, t.a0 + x, t.a1, t.b0 + y, t.b1});
-      stack.push_back({false, t.a0, t.a0 + x, t.b0, t.b0 + y});
-    }
-    return std::move(out_);
-  }
-
- private:
-  static uint32_t u32(size_t v) { return static_cast<uint32_t>(v); }
-
-  void emit_mismatch(size_t a0, size_t a1, size_t b0, size_t b1) {
-    for (size_t i = a0; i < a1; ++i)
-      out_.push_back({Op::del, u32(i), 0});
-    for (size_t j = b0; j < b1; ++j)
-      out_.push_back({Op::ins, 0, u32(j)});
-  }
-
-  // The middle snake of a[a0, a1) against b[b0, b1): a split point (x, y) of an optimal path.
-  // False when none is found within the work budget (the region is then left unaligned).
-  bool bisect(size_t a0, size_t a1, size_t b0, size_t b1, size_t& split_x, size_t& split_y) {
-    const long n = static_cast<long>(a1 - a0), m = static_cast<long>(b1 - b0);
-    const long max_d = (n + m + 1) / 2;
-    const long offset = max_d, length = 2 * max_d + 2;
-    std::vector<long> v1(static_cast<size_t>(length), -1), v2(static_cast<size_t>(length), -1);
-    v1[static_cast<size_t>(offset + 1)] = 0;
-    v2[static_cast<size_t>(offset + 1)] = 0;
-    const long delta = n - m;
-    const bool front = (delta % 2) != 0;
-    long k1start = 0, k1end = 0, k2start = 0, k2end = 0;
-    auto A = [&](long i) { return a_[a0 + static_cast<size_t>(i)]; };
-    auto B = [&](long j) { return b_[b0 + static_cast<size_t>(j)]; };
-    for (long d = 0; d < max_d; ++d) {
-      // Work budget: about (n + m) per d; give up on hopeless regions (docs/krl-diff.md).
-      work_ += static_cast<double>(2 * d + 2);
-      if (work_ > kMaxWork)
-        return false;
-      for (long k1 = -d + k1start; k1 <= d - k1end; k1 += 2) {
-        const long k1o = offset + k1;
-        long x1 =
-            (k1 == -d || (k1 != d && v1[k1o - 1] < v1[k1o + 1])) ? v1[k1o + 1] : v1[k1o - 1] + 1;
-        long y1 = x1 - k1;
-        const long start1 = x1;
-        while (x1 < n && y1 < m && A(x1) == B(y1)) {
-          ++x1;
-          ++y1;
-        }
-        work_ += static_cast<double>(x1 - start1);
-        v1[k1o] = x1;
-        if (x1 > n) {
-          k1end += 2;
-        } else if (y1 > m) {
-          k1start += 2;
-        } else if (front) {
-          const long k2o = offset + delta - k1;
-          if (k2o >= 0 && k2o < length && v2[k2o] != -1 && x1 >= n - v2[k2o]) {
-            split_x = static_cast<size_t>(x1);
-            split_y = static_cast<size_t>(y1);
-            return true;
-          }
-        }
-      }
-      for (long k2 = -d + k2start; k2 <= d - k2end; k2 += 2) {
-        const long k2o = offset + k2;
-        long x2 =
-            (k2 == -d || (k2 != d && v2[k2o - 1] < v2[k2o + 1])) ? v2[k2o + 1] : v2[k2o - 1] + 1;
-        long y2 = x2 - k2;
-        const long start2 = x2;
-        while (x2 < n && y2 < m && A(n - x2 - 1) == B(m - y2 - 1)) {
-          ++x2;
-          ++y2;
-        }
-        work_ += static_cast<double>(x2 - start2);
-        v2[k2o] = x2;
-        if (x2 > n) {
-          k2end += 2;
-        } else if (y2 > m) {
-          k2start += 2;
-        } else if (!front) {
-          const long k1o = offset + delta - k2;
-          if (k1o >= 0 && k1o < length && v1[k1o] != -1) {
-            const long x1 = v1[k1o];
-            const long y1 = offset + x1 - k1o;
-            if (x1 >= n - x2) {
-              split_x = static_cast<size_t>(x1);
-              split_y = static_cast<size_t>(y1);
-              return true;
-            }
-          }
-        }
-      }
-    }
-    return false;
-  }
-
-  static constexpr double kMaxWork = 4e8;
-  const std::vector<uint64_t>& a_;
-  const std::vector<uint64_t>& b_;
-  std::vector<Step> out_;
-  double work_ = 0.0;
-};
 
 // ---- comparison ------------------------------------------------------------------------------
 
@@ -571,13 +423,6 @@ bool is_src(const fs::path& p) {
   return upper(p.extension().string()) == ".SRC";
 }
 
-bool ident_start(char c) {
-  return std::isalpha(static_cast<unsigned char>(c)) || c == '_' || c == '$';
-}
-bool ident_char(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$';
-}
-
 // Names called as subprograms in a .src: statements of the form NAME( ... ).
 std::set<std::string> called_names(const std::string& text) {
   static const std::set<std::string> keywords = {
@@ -651,21 +496,21 @@ KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
     ka[i] = motion_key(pa[i], by_cl);
   for (size_t j = 0; j < pb.size(); ++j)
     kb[j] = motion_key(pb[j], by_cl);
-  std::vector<Step> steps = Differ(ka, kb).run();
+  std::vector<krl::Step> steps = krl::align_keys(ka, kb);
   ka = {};
   kb = {};
 
   Comparer cmp(options, r);
   std::vector<uint32_t> dels, ins;
-  for (const Step& s : steps) {
-    if (s.op == Op::match) {
+  for (const krl::Step& s : steps) {
+    if (s.op == krl::Op::match) {
       if (!dels.empty() || !ins.empty()) {
         flush_hunk(pa, pb, dels, ins, by_cl, cmp);
         dels.clear();
         ins.clear();
       }
       cmp.pair(pa[s.i], pb[s.j]);
-    } else if (s.op == Op::del) {
+    } else if (s.op == krl::Op::del) {
       dels.push_back(s.i);
     } else {
       ins.push_back(s.j);
@@ -708,217 +553,6 @@ KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_
   if (!total.unmatched.empty())
     total.equal = false;
   return total;
-}
-
-// ---- reports ---------------------------------------------------------------------------------
-
-namespace {
-
-std::string num(double v) {
-  if (!std::isfinite(v))
-    return "nan";
-  if (v == 0.0)
-    v = 0.0;
-  return fmt::format("{:.6g}", v);
-}
-
-std::string tolerance_of(KrlQuantity q, const KrlDiffOptions& o) {
-  switch (q) {
-    case KrlQuantity::position:
-    case KrlQuantity::aux_position:
-      return num(o.pos_tol_mm);
-    case KrlQuantity::orientation:
-      return num(o.ang_tol_deg);
-    case KrlQuantity::status:
-    case KrlQuantity::turn:
-    case KrlQuantity::keyword:
-    case KrlQuantity::target_kind:
-      return "exact";
-    default:
-      return num(o.axis_tol);
-  }
-}
-
-std::string where(const std::string& file, int line, int last_line) {
-  if (last_line != line && last_line != 0)
-    return fmt::format("{}:{}-{}", file, line, last_line);
-  return fmt::format("{}:{}", file, line);
-}
-
-std::string deviation_text(const KrlDeviation& d) {
-  const std::string name = krl_quantity_name(d.quantity);
-  if (!d.detail.empty())
-    return name + " " + d.detail;
-  const std::string unit = krl_quantity_unit(d.quantity);
-  return name + " " + num(d.value) + (unit == "axis" ? "" : " " + unit);
-}
-
-void json_string(std::string& out, const std::string& s) {
-  out += '"';
-  for (char ch : s) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\b':
-        out += "\\b";
-        break;
-      case '\f':
-        out += "\\f";
-        break;
-      default:
-        if (c < 0x20)
-          out += fmt::format("\\u{:04x}", c);
-        else
-          out += ch;
-    }
-  }
-  out += '"';
-}
-
-std::string json_number(double v) {
-  if (!std::isfinite(v))
-    return "null";
-  if (v == 0.0)
-    v = 0.0;
-  return fmt::format("{:.9g}", v);
-}
-
-}  // namespace
-
-std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o) {
-  std::string out;
-  for (const std::string& u : r.unmatched)
-    out += u + "\n";
-  size_t n = 0;
-  for (const KrlDifference& d : r.differences) {
-    ++n;
-    switch (d.kind) {
-      case KrlDifference::Kind::changed: {
-        out += fmt::format("{} <-> {}: {} / {}:", where(d.file_a, d.line_a, 0),
-                           where(d.file_b, d.line_b, 0), d.keyword_a, d.keyword_b);
-        for (size_t i = 0; i < d.deviations.size(); ++i)
-          out += (i ? ", " : " ") + deviation_text(d.deviations[i]);
-        out += "\n";
-        break;
-      }
-      case KrlDifference::Kind::inserted:
-        out += fmt::format("{}: inserted in B: {} motion{} ({} ...)\n",
-                           where(d.file_b, d.line_b, d.last_line_b), d.count,
-                           d.count == 1 ? "" : "s", d.keyword_b);
-        break;
-      case KrlDifference::Kind::removed:
-        out += fmt::format("{}: removed from A: {} motion{} ({} ...)\n",
-                           where(d.file_a, d.line_a, d.last_line_a), d.count,
-                           d.count == 1 ? "" : "s", d.keyword_a);
-        break;
-    }
-  }
-  if (r.difference_count > r.differences.size())
-    out += fmt::format("... {} more difference(s) not shown (--max-shown)\n",
-                       r.difference_count - r.differences.size());
-  out += fmt::format(
-      "{}: {} motions in A, {} in B, {} compared ({}), {} changed, {} inserted, {} removed\n",
-      r.equal ? "equal" : "different", r.motions_a, r.motions_b, r.compared,
-      r.aligned_by_cl_line ? "aligned by CL line" : "aligned by position", r.changed, r.inserted,
-      r.removed);
-  out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "quantity", "compared",
-                     "over tol", "max", "mean", "tolerance");
-  for (int q = 0; q < kKrlQuantityCount; ++q) {
-    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
-    if (s.compared == 0)
-      continue;
-    out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n",
-                       krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
-                       num(s.max), num(s.mean()), tolerance_of(static_cast<KrlQuantity>(q), o));
-  }
-  return out;
-}
-
-std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o) {
-  std::string out = "{";
-  out += fmt::format(
-      "\"equal\": {}, \"motions_a\": {}, \"motions_b\": {}, \"compared\": {}, \"changed\": {}, "
-      "\"inserted\": {}, \"removed\": {}, \"difference_count\": {}, \"aligned_by\": \"{}\", ",
-      r.equal ? "true" : "false", r.motions_a, r.motions_b, r.compared, r.changed, r.inserted,
-      r.removed, r.difference_count, r.aligned_by_cl_line ? "cl_line" : "position");
-  out += fmt::format(
-      "\"tolerances\": {{\"position_mm\": {}, \"orientation_deg\": {}, \"axis\": {}}}, ",
-      json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol));
-  out += "\"unmatched\": [";
-  for (size_t i = 0; i < r.unmatched.size(); ++i) {
-    if (i)
-      out += ", ";
-    json_string(out, r.unmatched[i]);
-  }
-  out += "], \"differences\": [";
-  auto side = [&](const char* key, const std::string& file, int line, int last,
-                  const std::string& kw) {
-    out += fmt::format("\"{}\": {{\"file\": ", key);
-    json_string(out, file);
-    out += fmt::format(", \"line\": {}, \"last_line\": {}, \"keyword\": ", line, last);
-    json_string(out, kw);
-    out += "}";
-  };
-  for (size_t i = 0; i < r.differences.size(); ++i) {
-    const KrlDifference& d = r.differences[i];
-    if (i)
-      out += ", ";
-    const char* kind = d.kind == KrlDifference::Kind::changed    ? "changed"
-                       : d.kind == KrlDifference::Kind::inserted ? "inserted"
-                                                                 : "removed";
-    out += fmt::format("{{\"kind\": \"{}\", \"count\": {}, ", kind, d.count);
-    if (d.kind != KrlDifference::Kind::inserted) {
-      side("a", d.file_a, d.line_a, d.last_line_a, d.keyword_a);
-      out += ", ";
-    }
-    if (d.kind != KrlDifference::Kind::removed) {
-      side("b", d.file_b, d.line_b, d.last_line_b, d.keyword_b);
-      out += ", ";
-    }
-    out += "\"deviations\": [";
-    for (size_t k = 0; k < d.deviations.size(); ++k) {
-      const KrlDeviation& v = d.deviations[k];
-      if (k)
-        out += ", ";
-      out += fmt::format("{{\"quantity\": \"{}\", \"value\": {}, \"unit\": \"{}\", \"detail\": ",
-                         krl_quantity_name(v.quantity), json_number(v.value),
-                         krl_quantity_unit(v.quantity));
-      json_string(out, v.detail);
-      out += "}";
-    }
-    out += "]}";
-  }
-  out += "], \"statistics\": {";
-  bool first = true;
-  for (int q = 0; q < kKrlQuantityCount; ++q) {
-    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
-    if (s.compared == 0)
-      continue;
-    if (!first)
-      out += ", ";
-    first = false;
-    out += fmt::format(
-        "\"{}\": {{\"compared\": {}, \"over_tolerance\": {}, \"max\": {}, \"mean\": {}, "
-        "\"unit\": \"{}\"}}",
-        krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
-        json_number(s.max), json_number(s.mean()), krl_quantity_unit(static_cast<KrlQuantity>(q)));
-  }
-  out += "}}\n";
-  return out;
 }
 
 }  // namespace redpost

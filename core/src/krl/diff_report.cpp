@@ -1,0 +1,221 @@
+// The KRL diff's reports (redpost/krl/diff.hpp): the differences and statistics as text, and
+// the whole result as JSON.
+#include "redpost/krl/diff.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace redpost {
+
+namespace {
+
+std::string num(double v) {
+  if (!std::isfinite(v))
+    return "nan";
+  if (v == 0.0)
+    v = 0.0;
+  return fmt::format("{:.6g}", v);
+}
+
+std::string tolerance_of(KrlQuantity q, const KrlDiffOptions& o) {
+  switch (q) {
+    case KrlQuantity::position:
+    case KrlQuantity::aux_position:
+      return num(o.pos_tol_mm);
+    case KrlQuantity::orientation:
+      return num(o.ang_tol_deg);
+    case KrlQuantity::status:
+    case KrlQuantity::turn:
+    case KrlQuantity::keyword:
+    case KrlQuantity::target_kind:
+      return "exact";
+    default:
+      return num(o.axis_tol);
+  }
+}
+
+std::string where(const std::string& file, int line, int last_line) {
+  if (last_line != line && last_line != 0)
+    return fmt::format("{}:{}-{}", file, line, last_line);
+  return fmt::format("{}:{}", file, line);
+}
+
+std::string deviation_text(const KrlDeviation& d) {
+  const std::string name = krl_quantity_name(d.quantity);
+  if (!d.detail.empty())
+    return name + " " + d.detail;
+  const std::string unit = krl_quantity_unit(d.quantity);
+  return name + " " + num(d.value) + (unit == "axis" ? "" : " " + unit);
+}
+
+void json_string(std::string& out, const std::string& s) {
+  out += '"';
+  for (char ch : s) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\b':
+        out += "\\b";
+        break;
+      case '\f':
+        out += "\\f";
+        break;
+      default:
+        if (c < 0x20)
+          out += fmt::format("\\u{:04x}", c);
+        else
+          out += ch;
+    }
+  }
+  out += '"';
+}
+
+std::string json_number(double v) {
+  if (!std::isfinite(v))
+    return "null";
+  if (v == 0.0)
+    v = 0.0;
+  return fmt::format("{:.9g}", v);
+}
+
+}  // namespace
+
+std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o) {
+  std::string out;
+  for (const std::string& u : r.unmatched)
+    out += u + "\n";
+  size_t n = 0;
+  for (const KrlDifference& d : r.differences) {
+    ++n;
+    switch (d.kind) {
+      case KrlDifference::Kind::changed: {
+        out += fmt::format("{} <-> {}: {} / {}:", where(d.file_a, d.line_a, 0),
+                           where(d.file_b, d.line_b, 0), d.keyword_a, d.keyword_b);
+        for (size_t i = 0; i < d.deviations.size(); ++i)
+          out += (i ? ", " : " ") + deviation_text(d.deviations[i]);
+        out += "\n";
+        break;
+      }
+      case KrlDifference::Kind::inserted:
+        out += fmt::format("{}: inserted in B: {} motion{} ({} ...)\n",
+                           where(d.file_b, d.line_b, d.last_line_b), d.count,
+                           d.count == 1 ? "" : "s", d.keyword_b);
+        break;
+      case KrlDifference::Kind::removed:
+        out += fmt::format("{}: removed from A: {} motion{} ({} ...)\n",
+                           where(d.file_a, d.line_a, d.last_line_a), d.count,
+                           d.count == 1 ? "" : "s", d.keyword_a);
+        break;
+    }
+  }
+  if (r.difference_count > r.differences.size())
+    out += fmt::format("... {} more difference(s) not shown (--max-shown)\n",
+                       r.difference_count - r.differences.size());
+  out += fmt::format(
+      "{}: {} motions in A, {} in B, {} compared ({}), {} changed, {} inserted, {} removed\n",
+      r.equal ? "equal" : "different", r.motions_a, r.motions_b, r.compared,
+      r.aligned_by_cl_line ? "aligned by CL line" : "aligned by position", r.changed, r.inserted,
+      r.removed);
+  out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n", "quantity", "compared",
+                     "over tol", "max", "mean", "tolerance");
+  for (int q = 0; q < kKrlQuantityCount; ++q) {
+    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
+    if (s.compared == 0)
+      continue;
+    out += fmt::format("{:<13} {:>10} {:>10} {:>12} {:>12} {:>10}\n",
+                       krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
+                       num(s.max), num(s.mean()), tolerance_of(static_cast<KrlQuantity>(q), o));
+  }
+  return out;
+}
+
+std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o) {
+  std::string out = "{";
+  out += fmt::format(
+      "\"equal\": {}, \"motions_a\": {}, \"motions_b\": {}, \"compared\": {}, \"changed\": {}, "
+      "\"inserted\": {}, \"removed\": {}, \"difference_count\": {}, \"aligned_by\": \"{}\", ",
+      r.equal ? "true" : "false", r.motions_a, r.motions_b, r.compared, r.changed, r.inserted,
+      r.removed, r.difference_count, r.aligned_by_cl_line ? "cl_line" : "position");
+  out += fmt::format(
+      "\"tolerances\": {{\"position_mm\": {}, \"orientation_deg\": {}, \"axis\": {}}}, ",
+      json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol));
+  out += "\"unmatched\": [";
+  for (size_t i = 0; i < r.unmatched.size(); ++i) {
+    if (i)
+      out += ", ";
+    json_string(out, r.unmatched[i]);
+  }
+  out += "], \"differences\": [";
+  auto side = [&](const char* key, const std::string& file, int line, int last,
+                  const std::string& kw) {
+    out += fmt::format("\"{}\": {{\"file\": ", key);
+    json_string(out, file);
+    out += fmt::format(", \"line\": {}, \"last_line\": {}, \"keyword\": ", line, last);
+    json_string(out, kw);
+    out += "}";
+  };
+  for (size_t i = 0; i < r.differences.size(); ++i) {
+    const KrlDifference& d = r.differences[i];
+    if (i)
+      out += ", ";
+    const char* kind = d.kind == KrlDifference::Kind::changed    ? "changed"
+                       : d.kind == KrlDifference::Kind::inserted ? "inserted"
+                                                                 : "removed";
+    out += fmt::format("{{\"kind\": \"{}\", \"count\": {}, ", kind, d.count);
+    if (d.kind != KrlDifference::Kind::inserted) {
+      side("a", d.file_a, d.line_a, d.last_line_a, d.keyword_a);
+      out += ", ";
+    }
+    if (d.kind != KrlDifference::Kind::removed) {
+      side("b", d.file_b, d.line_b, d.last_line_b, d.keyword_b);
+      out += ", ";
+    }
+    out += "\"deviations\": [";
+    for (size_t k = 0; k < d.deviations.size(); ++k) {
+      const KrlDeviation& v = d.deviations[k];
+      if (k)
+        out += ", ";
+      out += fmt::format("{{\"quantity\": \"{}\", \"value\": {}, \"unit\": \"{}\", \"detail\": ",
+                         krl_quantity_name(v.quantity), json_number(v.value),
+                         krl_quantity_unit(v.quantity));
+      json_string(out, v.detail);
+      out += "}";
+    }
+    out += "]}";
+  }
+  out += "], \"statistics\": {";
+  bool first = true;
+  for (int q = 0; q < kKrlQuantityCount; ++q) {
+    const KrlQuantityStats& s = r.statistics[static_cast<size_t>(q)];
+    if (s.compared == 0)
+      continue;
+    if (!first)
+      out += ", ";
+    first = false;
+    out += fmt::format(
+        "\"{}\": {{\"compared\": {}, \"over_tolerance\": {}, \"max\": {}, \"mean\": {}, "
+        "\"unit\": \"{}\"}}",
+        krl_quantity_name(static_cast<KrlQuantity>(q)), s.compared, s.over_tolerance,
+        json_number(s.max), json_number(s.mean()), krl_quantity_unit(static_cast<KrlQuantity>(q)));
+  }
+  out += "}}\n";
+  return out;
+}
+
+}  // namespace redpost

@@ -1,0 +1,97 @@
+// The parsing level of the KRL reader, with which reader.cpp walks a program: lines, comments
+// and the index of a module, i.e. its DEFs and the points declared in it and in its .dat
+// (reader_module.cpp), and aggregates such as {X 1, Y 2, S 6} (reader_aggregate.cpp).
+#pragma once
+
+#include <cctype>
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "krl/text.hpp"
+#include "redpost/krl/reader.hpp"
+
+namespace redpost::krl {
+
+// --- lines -------------------------------------------------------------------------------------
+
+// Splits on LF, CRLF or CR.
+std::vector<std::string> split_lines(const std::string& text);
+
+// Splits a line into code and comment at the first ';' outside a "..." string.
+void split_comment(const std::string& line, std::string& code, std::string& comment);
+
+// The leading identifier of `s` (letters, digits, '_', '$'), upper case.
+std::string leading_word(const std::string& s);
+
+[[noreturn]] void fail(const std::string& file, int line, const std::string& msg);
+
+bool is_motion_keyword(const std::string& w);
+const std::set<std::string>& motion_keywords();
+
+// --- aggregates --------------------------------------------------------------------------------
+
+const std::set<std::string>& point_types();
+
+struct Cursor {
+  const std::string& text;
+  std::size_t pos;
+  const std::string& file;
+  int line;
+
+  void skip_space() {
+    while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos])))
+      ++pos;
+  }
+  bool at_end() {
+    skip_space();
+    return pos >= text.size();
+  }
+  char peek() {
+    skip_space();
+    return pos < text.size() ? text[pos] : '\0';
+  }
+  std::string word() {
+    skip_space();
+    std::size_t b = pos;
+    while (pos < text.size() && ident_char(text[pos]))
+      ++pos;
+    return text.substr(b, pos - b);
+  }
+};
+
+double parse_real_field(Cursor& c, const std::string& field);
+
+// Parses "{[TYPE:] F v, ...}" at c.pos; leaves c.pos after the '}'.
+KrlAggregate parse_aggregate(Cursor& c);
+
+// --- modules -----------------------------------------------------------------------------------
+
+struct DefRange {
+  std::string name;  // as written
+  int begin = 0;     // index of the DEF line
+  int end = 0;       // index of the END line
+};
+
+struct Module {
+  std::string src_path;
+  std::string dat_path;  // "" if none
+  std::vector<std::string> lines;
+  std::vector<DefRange> defs;                  // in file order; defs[0] is the module's main DEF
+  std::map<std::string, KrlAggregate> points;  // upper-case name -> value
+  std::map<std::string, std::string> array_types;  // upper-case array name -> point type
+  int stray_line = 0;  // first line of code outside a DEF (0: none), warned about
+};
+
+// Finds `stem.ext` in `dir` regardless of case; "" if absent.
+std::string find_file_nocase(const std::filesystem::path& dir, const std::string& stem,
+                             const std::string& ext);
+
+// Reads a .src, indexes its DEFs and reads the point DECLs in it and in the .dat beside it.
+// Throws Error(bad_input) with file:line for unmatched DEF/END and malformed aggregates.
+Module load_module(const std::string& src_path);
+
+}  // namespace redpost::krl

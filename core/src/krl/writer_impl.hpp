@@ -1,0 +1,126 @@
+// The state of a KRL writer (KrlWriter::Impl) and its steps, shared by the writer's sources:
+// writer.cpp (the statements and motions), writer_render.cpp (the value of each placeholder)
+// and writer_files.cpp (the program files, the parts of a split program, the final renames).
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "krl/writer_templates.hpp"
+#include "redpost/krl/writer.hpp"
+
+namespace redpost {
+
+namespace krl {
+
+// KUKA controllers run on Windows and their own files use CRLF; so does RoboDK. Every line the
+// writer emits ends with CRLF, whatever the template file used (docs/krl-templates.md).
+inline constexpr std::string_view kEol = "\r\n";
+
+// Parts are numbered NAME_P001 ... with a fixed width, so that they sort by name.
+inline constexpr int kMaxParts = 999;
+inline constexpr std::string_view kPartInfix = "_P";
+inline constexpr size_t kPartSuffixLength = 5;  // "_P001"
+
+// Control characters would break a KRL line; a comment must stay one line. Trailing blanks
+// (from a trailing line break) are dropped.
+std::string one_line(std::string_view text);
+
+// strerror(errno), for the messages of failed file operations.
+std::string errno_text();
+
+}  // namespace krl
+
+struct KrlWriter::Impl {
+  KrlTemplateSet t;
+  KrlProgramInfo info;
+  krl::CompiledTemplates tpl;
+  std::string date;  // only if a skeleton asks for {date}
+
+  // Every file made so far, in the order they are renamed: each program's .dat, then its .src;
+  // the main program last.
+  struct File {
+    std::string temp, final_path;
+    bool renamed = false;
+  };
+  std::vector<File> files;
+  std::FILE* src_out = nullptr;  // the .src being written
+  size_t out_index = 0;          // into files
+  std::string module;            // its name
+  std::vector<std::string> parts;
+
+  long motion_count = 0;  // all motions so far
+  int motions_in_module = 0;
+  bool in_spline = false;
+  int spline_points = 0;
+  double vel_requested = std::numeric_limits<double>::quiet_NaN();
+  std::string vel_written;  // the last $VEL.CP statement, to skip repeats
+  bool have_last = false;
+  AxisValues last_axes;
+  int ext_mask = -1;  // external axes (bit n-1 for En) of the first motion
+  // What a part restates so that it runs alone with the right tool, spindle and coolant.
+  std::string tool_state, spindle_state, coolant_state;
+  bool finished = false;
+
+  // Rendering context: the values of a statement's placeholders (the program's and the
+  // module's come from the fields above).
+  struct Values {
+    const AxisValues* axes = nullptr;
+    double xyz[3] = {0, 0, 0};
+    KukaAbc abc;
+    StatusTurn st;
+    double number_value = 0.0;  // vel, rpm, or an external axis value
+    long integer = 0;           // cl line, tool number, axis number
+    std::string_view text, tool_name, direction, clockwise, mode, callee;
+  };
+  std::string_view current;  // the statement or file being rendered, for messages
+  std::string line;          // reused buffer
+  std::string converted;
+
+  Impl(const KrlTemplateSet& templates, const KrlProgramInfo& program)
+      : t(templates), info(program) {}
+
+  // --- rendering (writer_render.cpp) ---------------------------------------------------------
+  std::string context() const;
+  void number(std::string& out, double v, int decimals, std::string_view what);
+  void value(std::string& out, krl::Ph ph, const Values& v);
+  void pose_value(std::string& out, krl::Ph ph, const Values& v);
+  void axis_value(std::string& out, krl::Ph ph, const Values& v);
+  void external_axes(std::string& out, const Values& v);
+  void statement_value(std::string& out, krl::Ph ph, const Values& v);
+  void program_value(std::string& out, krl::Ph ph);
+  void render_into(std::string& out, const krl::Compiled& c, const Values& v);
+  std::string render(krl::Stmt s, const Values& v);
+
+  // --- output files (writer_files.cpp) -------------------------------------------------------
+  // One logical line; a multi-line statement has '\n' inside. Empty: nothing is written.
+  void put(std::FILE* f, size_t file_index, std::string_view text);
+  void put(krl::Stmt s, const Values& v) { put(src_out, out_index, render(s, v)); }
+  size_t create(const std::string& file_name, std::FILE*& f);
+  void close(std::FILE*& f, size_t file_index);
+  // Writes skeleton lines [from, to) and returns the index of the block line that stopped it
+  // (or to). Defined and used in writer_files.cpp only.
+  template <class Block>
+  size_t put_skeleton(std::FILE* f, size_t file_index, const krl::Skeleton& sk, size_t from,
+                      std::string_view file_kind, Block&& block);
+  void write_dat(const std::string& name, const krl::Skeleton& sk, std::string_view kind);
+  size_t body_line(const krl::Skeleton& sk) const;
+  void open_module(const std::string& name);
+  void close_module();
+  void next_part();
+  void write_main_program();
+  void rename_files();
+
+  // --- statements (writer.cpp) ---------------------------------------------------------------
+  void end_spline();
+  void ptp_axes(const AxisValues& axes);
+  Values pose_values(const KrlMotion& m);
+  void flush_velocity();
+  void restate();
+};
+
+}  // namespace redpost
