@@ -22,7 +22,7 @@
 namespace redpost {
 
 // ---------------------------------------------------------------------------------------------
-// krl_format.hpp: shared with the writer.
+// krl/format.hpp: shared with the writer.
 namespace krl {
 
 namespace {
