@@ -1,3 +1,5 @@
+// The HTML report of `redpost convert --report` (see convert_report.hpp): the observer that
+// streams the motions into bounded summaries, and one step per report section.
 #include "convert_report.hpp"
 
 #include <fmt/format.h>
@@ -202,6 +204,237 @@ ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>
 
 ConvertReport::~ConvertReport() = default;
 
+namespace {
+
+// A joint's limits, in the units of its values (controller units, else DH degrees or mm).
+struct Limits {
+  double lo = kNaN, hi = kNaN;
+};
+
+// The rows under the title: inputs, counts, time, the lowest 1/kappa_F and the warnings.
+void add_summary(rep::HtmlReport& r, const rp_summary& summary,
+                 const ConvertReportContext& context) {
+  r.add_summary("input", context.input);
+  r.add_summary("cell", context.cell);
+  r.add_summary("program", context.program);
+  r.add_summary("poses tracked", fmt::format("{}", summary.poses));
+  r.add_summary("motions written", fmt::format("{}", summary.motions));
+  r.add_summary("conversion time", fmt::format("{:.2f} s", context.seconds));
+  r.add_summary("lowest 1/kappa_F", fmt::format("{:.3f} (CL line {})", summary.lowest_inv_condition,
+                                                summary.lowest_inv_condition_line));
+  const std::size_t warning_count =
+      static_cast<std::size_t>(summary.warnings) + context.reader_warnings.size();
+  r.add_summary("warnings", fmt::format("{}", warning_count));
+}
+
+// The range of every joint and its margins to the limits, with a warning for each joint that
+// came into the limit zone. Returns the limits of the joints (NaN where the ABI has none).
+std::vector<Limits> add_joint_ranges_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
+                                             const rp_session* session) {
+  r.add_section("Joint ranges and margins to the limits");
+  std::vector<Limits> limits(d.joints.size());
+  rep::Table t;
+  t.caption =
+      "Values in controller units where the joint has an axis (A1..E6), else DH degrees or mm. "
+      "Margins are the smallest distances to each limit over all poses tracked.";
+  t.header = {"joint",       "axis",        "unit",       "lowest",      "highest",
+              "lower limit", "upper limit", "margin low", "margin high", "margin [% of range]"};
+  std::vector<std::string> near_limit;
+  for (std::size_t i = 0; i < d.joints.size(); ++i) {
+    rp_joint_range_info jr{};
+    if (rp_joint_range(session, static_cast<int>(i), &jr) != RP_OK)
+      continue;
+    const JointInfo& j = d.joints[i];
+    // The limits follow from the range and its margins (rp_joint_range).
+    Limits& l = limits[i];
+    l.lo = jr.lowest - jr.margin_lower;
+    l.hi = jr.highest + jr.margin_upper;
+    const double range = l.hi - l.lo;
+    const double margin_pct =
+        range > 0 ? 100.0 * std::min(jr.margin_lower, jr.margin_upper) / range : kNaN;
+    const int decimals = j.prismatic ? 1 : 2;
+    t.rows.push_back({rep::text(j.name), rep::text(j.axis), rep::text(unit_of(j)),
+                      rep::num(jr.lowest, decimals), rep::num(jr.highest, decimals),
+                      rep::num(l.lo, decimals), rep::num(l.hi, decimals),
+                      rep::num(jr.margin_lower, decimals), rep::num(jr.margin_upper, decimals),
+                      rep::num(margin_pct, 1)});
+    if (margin_pct < 100.0 * kLimitZone) {
+      near_limit.push_back(
+          fmt::format("{} came within {:.1f} % of its range of a limit", j.label(), margin_pct));
+    }
+  }
+  r.add_table(t);
+  for (const std::string& w : near_limit)
+    r.add_warning(w);
+  return limits;
+}
+
+// The reader's and the session's warnings.
+void add_run_warnings(rep::HtmlReport& r, const rp_session* session,
+                      const ConvertReportContext& context) {
+  // Every warning up to a screenful; the rest are counted (the terminal printed them all).
+  constexpr std::size_t kMaxWarnings = 50;
+  std::size_t shown = 0;
+  auto warn = [&](const std::string& w) {
+    if (shown++ < kMaxWarnings)
+      r.add_warning(w);
+  };
+  for (const std::string& w : context.reader_warnings)
+    warn(w);
+  for (int i = 0; const char* w = rp_warning(session, i); ++i)
+    warn(w);
+  if (shown > kMaxWarnings)
+    r.add_paragraph(fmt::format("... and {} more warnings.", shown - kMaxWarnings));
+}
+
+// How the plots against the motion index are reduced, when they are.
+void add_decimation_note(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  const std::size_t width = d.inv_condition.bucket_width();
+  if (width > 1) {
+    r.add_paragraph(fmt::format(
+        "The plots below show {} motions, each point pair the lowest and highest value of {} "
+        "consecutive motions: no peak is lost, however short.",
+        d.motions, width));
+  }
+}
+
+// Every joint with limits, normalised to them, with the limit zones shaded.
+void add_joints_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
+                        const std::vector<Limits>& limits) {
+  r.add_section("Joints");
+  rep::LinePlot jp;
+  jp.title = "Joint positions, normalised to their limits (0 = lower, 1 = upper limit)";
+  jp.x = motion_axis(d.motions);
+  jp.y = rep::make_axis("position in range", "1");
+  jp.y.min = 0.0;
+  jp.y.max = 1.0;
+  jp.bands.push_back(hband(0.0, kLimitZone, "limit zone (tracker pushes back)"));
+  jp.bands.push_back(hband(1.0 - kLimitZone, 1.0, ""));
+  for (std::size_t i = 0; i < d.joints.size(); ++i) {
+    const Limits& l = limits[i];
+    if (!(l.hi > l.lo))
+      continue;
+    rep::XYSeries s = d.joint_values[i].result();
+    for (double& y : s.y)
+      y = (y - l.lo) / (l.hi - l.lo);
+    jp.series.push_back(series_of(d.joints[i].label(), std::move(s)));
+  }
+  r.add_plot(std::move(jp));
+}
+
+// 1/kappa_F per motion, with the threshold where the tracker switches.
+void add_conditioning_plot(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  rep::LinePlot kp;
+  kp.title = "Inverse condition number 1/kappa_F of the arm";
+  kp.x = motion_axis(d.motions);
+  kp.y = rep::make_axis("1/kappa_F", "1");
+  kp.y.min = 0.0;
+  kp.series.push_back(series_of("1/kappa_F", d.inv_condition.result()));
+  if (std::isfinite(d.threshold)) {
+    kp.hlines.push_back(hline(d.threshold, fmt::format("switch threshold {:g}", d.threshold)));
+  }
+  r.add_plot(std::move(kp));
+}
+
+// The external axes in their own units (none: no plot).
+void add_external_axes_plot(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  bool has_mm = false, has_deg = false;
+  for (const JointInfo& j : d.joints) {
+    if (j.external())
+      (j.prismatic ? has_mm : has_deg) = true;
+  }
+  if (!has_mm && !has_deg)
+    return;
+  rep::LinePlot ep;
+  ep.title = "External axes";
+  ep.x = motion_axis(d.motions);
+  // Tracks in mm on the left; turn tables in degrees on the right (or left when alone).
+  ep.y = has_mm ? rep::make_axis("track", "mm") : rep::make_axis("table", "deg");
+  ep.has_y2 = has_mm && has_deg;
+  if (ep.has_y2)
+    ep.y2 = rep::make_axis("table", "deg");
+  for (std::size_t i = 0; i < d.joints.size(); ++i) {
+    const JointInfo& j = d.joints[i];
+    if (!j.external())
+      continue;
+    rep::Series s = series_of(j.label() + " [" + unit_of(j) + "]", d.joint_values[i].result());
+    s.right_axis = ep.has_y2 && !j.prismatic;
+    s.dashed = s.right_axis;
+    ep.series.push_back(std::move(s));
+  }
+  r.add_plot(std::move(ep));
+}
+
+// Iterations per written pose and the feed of the cutting moves.
+void add_solver_and_feed_section(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  r.add_section("Solver and feed");
+  rep::LinePlot ip;
+  ip.title = "Iterations per written pose";
+  ip.x = motion_axis(d.motions);
+  ip.y = rep::make_axis("iterations", "");
+  ip.y.min = 0.0;
+  ip.series.push_back(series_of("iterations", d.iterations.result()));
+  ip.width = 620;
+  ip.height = 300;
+  r.add_plot(std::move(ip));
+
+  rep::LinePlot fp;
+  fp.title = "Feed of the cutting moves (gaps: rapids)";
+  fp.x = motion_axis(d.motions);
+  fp.y = rep::make_axis("feed", "mm/min");
+  fp.y.min = 0.0;
+  fp.series.push_back(series_of("feed", d.feed.result()));
+  // Headroom above the highest feed: a constant feed would otherwise run along the frame.
+  double feed_max = 0.0;
+  for (double f : fp.series.back().y) {
+    if (std::isfinite(f))
+      feed_max = std::max(feed_max, f);
+  }
+  if (feed_max > 0.0)
+    fp.y.max = 1.15 * feed_max;
+  fp.width = 620;
+  fp.height = 300;
+  r.add_plot(std::move(fp));
+}
+
+// The toolpath in the CL frame, projected on XY, XZ and YZ, coloured by 1/kappa_F.
+void add_toolpath_section(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  r.add_section("Toolpath in the CL frame, coloured by 1/kappa_F");
+  if (d.path.tolerance_mm() > 0.001) {
+    r.add_paragraph(fmt::format(
+        "Points closer than {:g} mm to the last one drawn are left out (each drawn point "
+        "shows the lowest 1/kappa_F of those it stands for).",
+        d.path.tolerance_mm()));
+  }
+  const char* views[3][3] = {{"XY", "x", "y"}, {"XZ", "x", "z"}, {"YZ", "y", "z"}};
+  for (const auto& v : views) {
+    rep::XYView view;
+    view.title = std::string("Toolpath, ") + v[0] + " projection";
+    view.x = rep::make_axis(v[1], "mm");
+    view.y = rep::make_axis(v[2], "mm");
+    view.colour = rep::make_axis("1/kappa_F", "1");
+    rep::PointSet s;
+    s.name = "TCP";
+    s.connect = true;
+    s.markers = false;
+    const int a = v[1][0] - 'x', b = v[2][0] - 'x';
+    s.x.reserve(d.path.size());
+    s.y.reserve(d.path.size());
+    s.value.reserve(d.path.size());
+    d.path.for_each([&](const Toolpath::Point& p) {
+      s.x.push_back(p.p[a]);
+      s.y.push_back(p.p[b]);
+      s.value.push_back(p.value);
+    });
+    view.sets.push_back(std::move(s));
+    view.width = 420;
+    view.height = 400;
+    r.add_plot(std::move(view));
+  }
+}
+
+}  // namespace
+
 void ConvertReport::write(const std::string& path, const rp_session* session,
                           const ConvertReportContext& context) const {
   const Impl& d = *impl_;
@@ -210,203 +443,15 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
 
   try {
     rep::HtmlReport r("redpost convert: " + context.program);
-    r.add_summary("input", context.input);
-    r.add_summary("cell", context.cell);
-    r.add_summary("program", context.program);
-    r.add_summary("poses tracked", fmt::format("{}", summary.poses));
-    r.add_summary("motions written", fmt::format("{}", summary.motions));
-    r.add_summary("conversion time", fmt::format("{:.2f} s", context.seconds));
-    r.add_summary("lowest 1/kappa_F",
-                  fmt::format("{:.3f} (CL line {})", summary.lowest_inv_condition,
-                              summary.lowest_inv_condition_line));
-    const std::size_t warning_count =
-        static_cast<std::size_t>(summary.warnings) + context.reader_warnings.size();
-    r.add_summary("warnings", fmt::format("{}", warning_count));
-
-    // --- Summary: limits and warnings ---------------------------------------------------------
-    r.add_section("Joint ranges and margins to the limits");
-    struct Limits {
-      double lo = kNaN, hi = kNaN;
-    };
-    std::vector<Limits> limits(d.joints.size());
-    rep::Table t;
-    t.caption =
-        "Values in controller units where the joint has an axis (A1..E6), else DH degrees or mm. "
-        "Margins are the smallest distances to each limit over all poses tracked.";
-    t.header = {"joint",       "axis",        "unit",       "lowest",      "highest",
-                "lower limit", "upper limit", "margin low", "margin high", "margin [% of range]"};
-    std::vector<std::string> near_limit;
-    for (std::size_t i = 0; i < d.joints.size(); ++i) {
-      rp_joint_range_info jr{};
-      if (rp_joint_range(session, static_cast<int>(i), &jr) != RP_OK)
-        continue;
-      const JointInfo& j = d.joints[i];
-      // The limits follow from the range and its margins (rp_joint_range).
-      Limits& l = limits[i];
-      l.lo = jr.lowest - jr.margin_lower;
-      l.hi = jr.highest + jr.margin_upper;
-      const double range = l.hi - l.lo;
-      const double margin_pct =
-          range > 0 ? 100.0 * std::min(jr.margin_lower, jr.margin_upper) / range : kNaN;
-      const int decimals = j.prismatic ? 1 : 2;
-      t.rows.push_back({rep::text(j.name), rep::text(j.axis), rep::text(unit_of(j)),
-                        rep::num(jr.lowest, decimals), rep::num(jr.highest, decimals),
-                        rep::num(l.lo, decimals), rep::num(l.hi, decimals),
-                        rep::num(jr.margin_lower, decimals), rep::num(jr.margin_upper, decimals),
-                        rep::num(margin_pct, 1)});
-      if (margin_pct < 100.0 * kLimitZone) {
-        near_limit.push_back(
-            fmt::format("{} came within {:.1f} % of its range of a limit", j.label(), margin_pct));
-      }
-    }
-    r.add_table(t);
-    for (const std::string& w : near_limit)
-      r.add_warning(w);
-    // Every warning up to a screenful; the rest are counted (the terminal printed them all).
-    constexpr std::size_t kMaxWarnings = 50;
-    std::size_t shown = 0;
-    auto warn = [&](const std::string& w) {
-      if (shown++ < kMaxWarnings)
-        r.add_warning(w);
-    };
-    for (const std::string& w : context.reader_warnings)
-      warn(w);
-    for (int i = 0; const char* w = rp_warning(session, i); ++i)
-      warn(w);
-    if (shown > kMaxWarnings)
-      r.add_paragraph(fmt::format("... and {} more warnings.", shown - kMaxWarnings));
-
-    const std::size_t width = d.inv_condition.bucket_width();
-    if (width > 1) {
-      r.add_paragraph(fmt::format(
-          "The plots below show {} motions, each point pair the lowest and highest value of {} "
-          "consecutive motions: no peak is lost, however short.",
-          d.motions, width));
-    }
-
-    // --- Joints -------------------------------------------------------------------------------
-    r.add_section("Joints");
-    rep::LinePlot jp;
-    jp.title = "Joint positions, normalised to their limits (0 = lower, 1 = upper limit)";
-    jp.x = motion_axis(d.motions);
-    jp.y = rep::make_axis("position in range", "1");
-    jp.y.min = 0.0;
-    jp.y.max = 1.0;
-    jp.bands.push_back(hband(0.0, kLimitZone, "limit zone (tracker pushes back)"));
-    jp.bands.push_back(hband(1.0 - kLimitZone, 1.0, ""));
-    for (std::size_t i = 0; i < d.joints.size(); ++i) {
-      const Limits& l = limits[i];
-      if (!(l.hi > l.lo))
-        continue;
-      rep::XYSeries s = d.joint_values[i].result();
-      for (double& y : s.y)
-        y = (y - l.lo) / (l.hi - l.lo);
-      jp.series.push_back(series_of(d.joints[i].label(), std::move(s)));
-    }
-    r.add_plot(std::move(jp));
-
-    // --- Conditioning -------------------------------------------------------------------------
-    rep::LinePlot kp;
-    kp.title = "Inverse condition number 1/kappa_F of the arm";
-    kp.x = motion_axis(d.motions);
-    kp.y = rep::make_axis("1/kappa_F", "1");
-    kp.y.min = 0.0;
-    kp.series.push_back(series_of("1/kappa_F", d.inv_condition.result()));
-    if (std::isfinite(d.threshold)) {
-      kp.hlines.push_back(hline(d.threshold, fmt::format("switch threshold {:g}", d.threshold)));
-    }
-    r.add_plot(std::move(kp));
-
-    // --- External axes ------------------------------------------------------------------------
-    bool has_mm = false, has_deg = false;
-    for (const JointInfo& j : d.joints) {
-      if (j.external())
-        (j.prismatic ? has_mm : has_deg) = true;
-    }
-    if (has_mm || has_deg) {
-      rep::LinePlot ep;
-      ep.title = "External axes";
-      ep.x = motion_axis(d.motions);
-      // Tracks in mm on the left; turn tables in degrees on the right (or left when alone).
-      ep.y = has_mm ? rep::make_axis("track", "mm") : rep::make_axis("table", "deg");
-      ep.has_y2 = has_mm && has_deg;
-      if (ep.has_y2)
-        ep.y2 = rep::make_axis("table", "deg");
-      for (std::size_t i = 0; i < d.joints.size(); ++i) {
-        const JointInfo& j = d.joints[i];
-        if (!j.external())
-          continue;
-        rep::Series s = series_of(j.label() + " [" + unit_of(j) + "]", d.joint_values[i].result());
-        s.right_axis = ep.has_y2 && !j.prismatic;
-        s.dashed = s.right_axis;
-        ep.series.push_back(std::move(s));
-      }
-      r.add_plot(std::move(ep));
-    }
-
-    // --- Iterations and feed ------------------------------------------------------------------
-    r.add_section("Solver and feed");
-    rep::LinePlot ip;
-    ip.title = "Iterations per written pose";
-    ip.x = motion_axis(d.motions);
-    ip.y = rep::make_axis("iterations", "");
-    ip.y.min = 0.0;
-    ip.series.push_back(series_of("iterations", d.iterations.result()));
-    ip.width = 620;
-    ip.height = 300;
-    r.add_plot(std::move(ip));
-
-    rep::LinePlot fp;
-    fp.title = "Feed of the cutting moves (gaps: rapids)";
-    fp.x = motion_axis(d.motions);
-    fp.y = rep::make_axis("feed", "mm/min");
-    fp.y.min = 0.0;
-    fp.series.push_back(series_of("feed", d.feed.result()));
-    // Headroom above the highest feed: a constant feed would otherwise run along the frame.
-    double feed_max = 0.0;
-    for (double f : fp.series.back().y) {
-      if (std::isfinite(f))
-        feed_max = std::max(feed_max, f);
-    }
-    if (feed_max > 0.0)
-      fp.y.max = 1.15 * feed_max;
-    fp.width = 620;
-    fp.height = 300;
-    r.add_plot(std::move(fp));
-
-    // --- Toolpath -----------------------------------------------------------------------------
-    r.add_section("Toolpath in the CL frame, coloured by 1/kappa_F");
-    if (d.path.tolerance_mm() > 0.001) {
-      r.add_paragraph(fmt::format(
-          "Points closer than {:g} mm to the last one drawn are left out (each drawn point "
-          "shows the lowest 1/kappa_F of those it stands for).",
-          d.path.tolerance_mm()));
-    }
-    const char* views[3][3] = {{"XY", "x", "y"}, {"XZ", "x", "z"}, {"YZ", "y", "z"}};
-    for (const auto& v : views) {
-      rep::XYView view;
-      view.title = std::string("Toolpath, ") + v[0] + " projection";
-      view.x = rep::make_axis(v[1], "mm");
-      view.y = rep::make_axis(v[2], "mm");
-      view.colour = rep::make_axis("1/kappa_F", "1");
-      rep::PointSet s;
-      s.name = "TCP";
-      s.connect = true;
-      s.markers = false;
-      const int a = v[1][0] - 'x', b = v[2][0] - 'x';
-      s.x.reserve(d.path.size());
-      s.y.reserve(d.path.size());
-      s.value.reserve(d.path.size());
-      d.path.for_each([&](const Toolpath::Point& p) {
-        s.x.push_back(p.p[a]);
-        s.y.push_back(p.p[b]);
-        s.value.push_back(p.value);
-      });
-      view.sets.push_back(std::move(s));
-      view.width = 420;
-      view.height = 400;
-      r.add_plot(std::move(view));
-    }
+    add_summary(r, summary, context);
+    const std::vector<Limits> limits = add_joint_ranges_section(r, d, session);
+    add_run_warnings(r, session, context);
+    add_decimation_note(r, d);
+    add_joints_section(r, d, limits);
+    add_conditioning_plot(r, d);
+    add_external_axes_plot(r, d);
+    add_solver_and_feed_section(r, d);
+    add_toolpath_section(r, d);
     write_text_file(path, r.html());
   } catch (const Error&) {
     throw;

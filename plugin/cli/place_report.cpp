@@ -66,13 +66,11 @@ rep::HeatMap cost_map_plot(const PlacementProblem& pb, const CostMap& map, const
   return hm;
 }
 
-}  // namespace
-
-std::string placement_report_html(const PlacementReportInput& in) {
+// The rows under the title: inputs, the search, and the best and worst placements.
+void add_summary(rep::HtmlReport& html, const PlacementReportInput& in) {
   const PlacementProblem& pb = *in.problem;
   const PlacementStudy& st = *in.study;
   const PlacementJob& job = pb.job();
-  rep::HtmlReport html("redpost place: " + std::filesystem::path(in.job_path).filename().string());
   html.add_summary("job", in.job_path);
   html.add_summary("cell", job.cell_file);
   html.add_summary("tool path",
@@ -90,7 +88,10 @@ std::string placement_report_html(const PlacementReportInput& in) {
   html.add_summary("worst placement",
                    fmt::format("O_W = ({:.1f}, {:.1f}, {:.1f}) mm in F0, Q4 = {:.4f} ({:.1f} deg)",
                                w.x_mm, w.y_mm, w.z_mm, w.q4, theta_deg(w)));
+}
 
+// Caro Table 5.1: f_MQC, max c_i and the postures of the four cases, and their ratio.
+void add_cases_section(rep::HtmlReport& html, const PlacementStudy& st) {
   html.add_section("The four cases (Caro Table 5.1)");
   rep::Table t;
   t.header = {"case",         "placement",           "spin plan", "f_MQC [mm] (eq. 5.3)",
@@ -110,7 +111,37 @@ std::string placement_report_html(const PlacementReportInput& in) {
   html.add_paragraph(fmt::format(
       "Case 4 / Case 1 = {:.2f} (the paper: 1.2 / 0.083 = 14.5 with its own workpiece and data).",
       st.cases[3].f_mqc_mm / st.cases[0].f_mqc_mm));
+}
 
+// c_i along the path in each of the four cases, in the postures and spin angles of its plan.
+rep::LinePlot cases_along_path_plot(const PlacementReportInput& in) {
+  const PlacementProblem& pb = *in.problem;
+  const PlacementStudy& st = *in.study;
+  rep::LinePlot plot;
+  plot.title = "c_i along the path for the four cases";
+  plot.x = rep::make_axis("tool path point", "");
+  plot.y = rep::make_axis("c_i", "mm");
+  const char* colours[4] = {"#2ca02c", "#98df8a", "#d62728", "#ff9896"};
+  const CostMap* maps[4] = {in.map_best, in.map_best, in.map_worst, in.map_worst};
+  for (size_t c = 0; c < 4; ++c) {
+    rep::Series s;
+    s.name = fmt::format("case {}", c + 1);
+    s.color = colours[c];
+    for (int i = 0; i < maps[c]->points; ++i) {
+      const int seg = pb.path()[static_cast<size_t>(i)].segment;
+      s.x.push_back(i + 1);
+      s.y.push_back(maps[c]->c(i, st.cases[c].beta_index[static_cast<size_t>(i)],
+                               st.cases[c].mu[static_cast<size_t>(seg)]));
+    }
+    plot.series.push_back(std::move(s));
+  }
+  return plot;
+}
+
+// Caro Figures 5.2 and 5.4: the c_i map of each case with its plan, then c_i along the path.
+void add_cost_maps_section(rep::HtmlReport& html, const PlacementReportInput& in) {
+  const PlacementProblem& pb = *in.problem;
+  const PlacementStudy& st = *in.study;
   html.add_section("c_i over the path and the spin angle (Caro Figures 5.2 and 5.4)");
   html.add_paragraph(
       "Each column is a path point, each row a spin angle beta; the colour is the tool "
@@ -129,94 +160,89 @@ std::string placement_report_html(const PlacementReportInput& in) {
                               "Worst placement, best spin plan (Figure 5.4, green)"));
   html.add_plot(cost_map_plot(pb, *in.map_worst, st.cases[3], "worst spin plan (case 4)", kRed,
                               "Worst placement, worst spin plan (Figure 5.4, red)"));
-  {
-    rep::LinePlot plot;
-    plot.title = "c_i along the path for the four cases";
-    plot.x = rep::make_axis("tool path point", "");
-    plot.y = rep::make_axis("c_i", "mm");
-    const char* colours[4] = {"#2ca02c", "#98df8a", "#d62728", "#ff9896"};
-    const CostMap* maps[4] = {in.map_best, in.map_best, in.map_worst, in.map_worst};
-    for (size_t c = 0; c < 4; ++c) {
-      rep::Series s;
-      s.name = fmt::format("case {}", c + 1);
-      s.color = colours[c];
-      for (int i = 0; i < maps[c]->points; ++i) {
-        const int seg = pb.path()[static_cast<size_t>(i)].segment;
-        s.x.push_back(i + 1);
-        s.y.push_back(maps[c]->c(i, st.cases[c].beta_index[static_cast<size_t>(i)],
-                                 st.cases[c].mu[static_cast<size_t>(seg)]));
-      }
-      plot.series.push_back(std::move(s));
-    }
-    html.add_plot(std::move(plot));
-  }
+  html.add_plot(cases_along_path_plot(in));
+}
 
+// Caro Figure 5.1: the best f_MQC found so far by the minimising and the maximising search.
+void add_optimiser_section(rep::HtmlReport& html, const PlacementStudy& st) {
   html.add_section("The optimiser (Caro Figure 5.1)");
-  {
-    rep::LinePlot plot;
-    plot.title = "Best f_MQC found so far";
-    plot.x = rep::make_axis("placements evaluated", "");
-    plot.y = rep::make_axis("f_MQC of the best spin plan", "mm");
-    rep::Series lo, hi;
-    lo.name = "minimising (best placement)";
-    hi.name = "maximising (worst placement)";
-    hi.right_axis = true;
-    for (const ConvergencePoint& c : st.best.history) {
-      lo.x.push_back(c.evaluations);
-      lo.y.push_back(c.best_f_mqc_mm);
-    }
-    for (const ConvergencePoint& c : st.worst.history) {
-      hi.x.push_back(c.evaluations);
-      hi.y.push_back(c.best_f_mqc_mm);
-    }
-    plot.has_y2 = true;
-    plot.y2 = rep::make_axis("f_MQC, worst search", "mm");
-    plot.series.push_back(std::move(lo));
-    plot.series.push_back(std::move(hi));
-    html.add_plot(std::move(plot));
+  rep::LinePlot plot;
+  plot.title = "Best f_MQC found so far";
+  plot.x = rep::make_axis("placements evaluated", "");
+  plot.y = rep::make_axis("f_MQC of the best spin plan", "mm");
+  rep::Series lo, hi;
+  lo.name = "minimising (best placement)";
+  hi.name = "maximising (worst placement)";
+  hi.right_axis = true;
+  for (const ConvergencePoint& c : st.best.history) {
+    lo.x.push_back(c.evaluations);
+    lo.y.push_back(c.best_f_mqc_mm);
   }
+  for (const ConvergencePoint& c : st.worst.history) {
+    hi.x.push_back(c.evaluations);
+    hi.y.push_back(c.best_f_mqc_mm);
+  }
+  plot.has_y2 = true;
+  plot.y2 = rep::make_axis("f_MQC, worst search", "mm");
+  plot.series.push_back(std::move(lo));
+  plot.series.push_back(std::move(hi));
+  html.add_plot(std::move(plot));
+}
 
+// The work volume in F0 from above, with the tool path and O_W at the best and worst placements.
+void add_top_view_section(rep::HtmlReport& html, const PlacementReportInput& in) {
+  const PlacementProblem& pb = *in.problem;
+  const PlacementStudy& st = *in.study;
   html.add_section("Top view of the work volume (eqs. 5.13-5.14)");
-  {
-    rep::XYView view;
-    view.title = "Work volume and placements in F0 (top view)";
-    view.x = rep::make_axis("x0", "mm");
-    view.y = rep::make_axis("y0", "mm");
-    const WorkVolume& v = job.volume;
-    rep::Rect r;
-    r.x0 = v.x_min_mm;
-    r.x1 = v.x_max_mm;
-    r.y0 = v.y_min_mm;
-    r.y1 = v.y_max_mm;
-    r.name = "work volume";
-    view.rects.push_back(r);
-    auto contour = [&](const Placement& p, const char* name, const char* colour) {
-      const Isometry T = workpiece_frame(p);
-      rep::PointSet path;
-      path.name = std::string(name) + " tool path";
-      path.color = colour;
-      path.connect = true;
-      path.markers = false;
-      for (const PathPoint& pt : pb.path()) {
-        const Eigen::Vector3d q = T * pt.T_W_P.translation();
-        path.x.push_back(q.x());
-        path.y.push_back(q.y());
-      }
-      view.sets.push_back(std::move(path));
-      rep::PointSet origin;
-      origin.name = std::string(name) + " O_W";
-      origin.color = colour;
-      origin.marker_radius = 5.0;
-      origin.x.push_back(p.x_mm);
-      origin.y.push_back(p.y_mm);
-      view.sets.push_back(std::move(origin));
-    };
-    contour(b, "best", "#2ca02c");
-    contour(w, "worst", "#d62728");
-    view.width = 1240;
-    view.height = 520;
-    html.add_plot(std::move(view));
-  }
+  rep::XYView view;
+  view.title = "Work volume and placements in F0 (top view)";
+  view.x = rep::make_axis("x0", "mm");
+  view.y = rep::make_axis("y0", "mm");
+  const WorkVolume& v = pb.job().volume;
+  rep::Rect r;
+  r.x0 = v.x_min_mm;
+  r.x1 = v.x_max_mm;
+  r.y0 = v.y_min_mm;
+  r.y1 = v.y_max_mm;
+  r.name = "work volume";
+  view.rects.push_back(r);
+  auto contour = [&](const Placement& p, const char* name, const char* colour) {
+    const Isometry T = workpiece_frame(p);
+    rep::PointSet path;
+    path.name = std::string(name) + " tool path";
+    path.color = colour;
+    path.connect = true;
+    path.markers = false;
+    for (const PathPoint& pt : pb.path()) {
+      const Eigen::Vector3d q = T * pt.T_W_P.translation();
+      path.x.push_back(q.x());
+      path.y.push_back(q.y());
+    }
+    view.sets.push_back(std::move(path));
+    rep::PointSet origin;
+    origin.name = std::string(name) + " O_W";
+    origin.color = colour;
+    origin.marker_radius = 5.0;
+    origin.x.push_back(p.x_mm);
+    origin.y.push_back(p.y_mm);
+    view.sets.push_back(std::move(origin));
+  };
+  contour(st.best.placement, "best", "#2ca02c");
+  contour(st.worst.placement, "worst", "#d62728");
+  view.width = 1240;
+  view.height = 520;
+  html.add_plot(std::move(view));
+}
+
+}  // namespace
+
+std::string placement_report_html(const PlacementReportInput& in) {
+  rep::HtmlReport html("redpost place: " + std::filesystem::path(in.job_path).filename().string());
+  add_summary(html, in);
+  add_cases_section(html, *in.study);
+  add_cost_maps_section(html, in);
+  add_optimiser_section(html, *in.study);
+  add_top_view_section(html, in);
   return html.html();
 }
 
