@@ -3,7 +3,8 @@
 #
 #   tclsh tcl/nx_replay.tcl --cell CELL.xml [--krl SET.xml] -o OUTDIR [--name PROG]
 #         [--joints-csv FILE] [--placement x,y,z,a,b,c] [--base EXPR] [--tool EXPR] [--apo MM]
-#         [--split N] [--cl-line-every N] [--chordal-tol MM] [--lib DIR] [-q] INPUT
+#         [--split N] [--cl-line-every N] [--chordal-tol MM] [--msys ignore|apply]
+#         [--tools FILE] [--clearance Z] [--rapid-vel M/S] [--max-bytes N] [--lib DIR] [-q] INPUT
 #
 # The options are those of `redpost convert` (docs/convert.md), and the program is the same, byte
 # for byte. --lib DIR puts DIR (the directory of pkgIndex.tcl, e.g. build/plugin) on auto_path.
@@ -29,20 +30,23 @@ proc usage {{message ""}} {
     puts stderr "usage: tclsh nx_replay.tcl --cell CELL.xml \[--krl SET.xml\] -o OUTDIR\
         \[--name PROG\] \[--joints-csv FILE\] \[--placement x,y,z,a,b,c\] \[--base EXPR\]\
         \[--tool EXPR\] \[--apo MM\] \[--split N\] \[--cl-line-every N\] \[--chordal-tol MM\]\
-        \[--lib DIR\] \[-q\] INPUT"
+        \[--msys ignore|apply\] \[--tools FILE\] \[--clearance Z\] \[--rapid-vel M/S\]\
+        \[--max-bytes N\] \[--lib DIR\] \[-q\] INPUT"
     exit 1
 }
 
 # --- command line -------------------------------------------------------------------------------
 
 array set opt {cell "" krl "" output "" name "" joints-csv "" placement "" base "" tool ""
-    apo "" split "" cl-line-every "" chordal-tol "" lib "" quiet 0}
+    apo "" split "" cl-line-every "" chordal-tol "" lib "" quiet 0 msys ignore tools ""
+    clearance "" rapid-vel "" max-bytes ""}
 set input ""
 for {set i 0} {$i < $argc} {incr i} {
     set a [lindex $argv $i]
     switch -- $a {
         --cell - --krl - --name - --joints-csv - --placement - --base - --tool - --apo -
-        --split - --cl-line-every - --chordal-tol - --lib - -o - --output {
+        --split - --cl-line-every - --chordal-tol - --lib - -o - --output - --msys - --tools -
+        --clearance - --rapid-vel - --max-bytes {
             if {$i + 1 >= $argc} {
                 usage "$a needs a value"
             }
@@ -87,7 +91,10 @@ source [file join [file dirname [file normalize [info script]]] redpost_post.tcl
 
 namespace eval ::redpost_settings {
     variable cell [file normalize $::opt(cell)]
-    variable krl [expr {$::opt(krl) eq "" ? "" : [file normalize $::opt(krl)]}]
+    # A shipped set's name (no folder, no extension) stays a name.
+    variable krl [expr {$::opt(krl) eq "" ||
+                        ([file extension $::opt(krl)] eq "" && [string first / $::opt(krl)] < 0)
+                        ? $::opt(krl) : [file normalize $::opt(krl)]}]
     variable output_dir [file normalize $::opt(output)]
     variable program_name $::opt(name)
     variable joints_csv [expr {$::opt(joints-csv) eq "" ? "" : [file normalize $::opt(joints-csv)]}]
@@ -95,14 +102,18 @@ namespace eval ::redpost_settings {
     variable source $::input
     variable part_comment 1
     variable placement {}
-    variable base "BASE_DATA\[1\]"
+    variable base ""
     variable tool "TOOL_DATA\[1\]"
+    variable tools [expr {$::opt(tools) eq "" ? "" : [file normalize $::opt(tools)]}]
+    variable clearance $::opt(clearance)
+    variable rapid_vel 0.25
+    variable max_bytes 0
     variable apo 0.5
     variable split 0
     variable cl_line_every 50
     variable chordal_tol 0.01
     foreach {key var} {base base tool tool apo apo split split cl-line-every cl_line_every
-        chordal-tol chordal_tol} {
+        chordal-tol chordal_tol rapid-vel rapid_vel max-bytes max_bytes} {
         if {$::opt($key) ne ""} {
             set $var $::opt($key)
         }
@@ -129,7 +140,7 @@ proc replay {input} {
         mom_feed_rate mom_spindle_rpm mom_spindle_speed mom_spindle_direction mom_coolant_mode \
         mom_coolant_status mom_tool_number mom_tool_name mom_tool_diameter mom_tool_length \
         mom_path_name mom_operation_name mom_pprint mom_Instruction
-    set reader [::redpost::reader_open $input $::redpost_settings::chordal_tol]
+    set reader [::redpost::reader_open $input $::redpost_settings::chordal_tol $::opt(msys)]
     try {
         set started 0
         # The handler for the next motion: NX's initial_move for the first motion of the program
@@ -225,10 +236,13 @@ proc replay {input} {
                     MOM_pprint
                 }
                 literal {
-                    set mom_Instruction $text
+                    # The reader took "KRL:" off; the Insert UDE gives it as the user wrote it.
+                    set mom_Instruction "KRL: $text"
                     MOM_insert
                 }
-                unknown_word - end_of_program {
+                unknown_word - end_of_program - machine_frame - dwell {
+                    # MSYS and a cycle's dwell come to NX posts through cycle and MCS events that
+                    # the handlers do not take yet (docs/nx-integration.md).
                 }
             }
         }

@@ -131,11 +131,11 @@ namespace eval ::redpost_post {
         return [file normalize [file join $::redpost_settings::dir $value]]
     }
 
-    # A template set: a file, or the name of a shipped set (krc4_lin, krc4_spline, krc2_lin).
+    # A template set: a file, or the name of a shipped set (krc4_lin, krc4_spline, krc2_lin,
+    # krc4_circ), which the library finds among its definitions.
     proc krl_path {value} {
         if {$value ne "" && [file extension $value] eq "" && [string first / $value] < 0} {
-            return [file normalize [file join $::redpost_settings::dir .. definitions krl \
-                                        $value.xml]]
+            return $value
         }
         return [setting_path $value]
     }
@@ -157,7 +157,7 @@ namespace eval ::redpost_post {
             cell cell krl krl output_dir output_dir program_name program_name \
             placement placement base base tool tool apo apo split split \
             cl_line_every cl_line_every chordal_tol chordal_tol joints_csv joints_csv \
-            source source
+            source source tools tools clearance clearance rapid_vel rapid_vel max_bytes max_bytes
         if {[string toupper [mom mom_output_unit MM]] in {IN INCH}} {
             error "the post outputs inches (mom_output_unit IN): redpost takes mm; set the\
                 postprocessor's output unit to metric"
@@ -180,7 +180,11 @@ namespace eval ::redpost_post {
         }
         set opts [list -cell [setting_path $cell] -output [setting_path $dir] -name $name \
                       -base $base -tool $tool -apo $apo -split $split \
-                      -cl-line-every $cl_line_every -chordal-tol $chordal_tol]
+                      -cl-line-every $cl_line_every -chordal-tol $chordal_tol \
+                      -clearance $clearance -rapid-vel $rapid_vel -max-bytes $max_bytes]
+        if {$tools ne ""} {
+            lappend opts -tools [setting_path $tools]
+        }
         if {$krl ne ""} {
             lappend opts -krl [krl_path $krl]
         }
@@ -322,9 +326,17 @@ proc MOM_operator_message {} {
     ::redpost_post::send MOM_operator_message comment [::redpost_post::mom mom_operator_message]
 }
 
-# The Insert UDE: a line passed to the KRL program as it is.
+# The Insert UDE: operator text, written as a comment; only "KRL: statement" passes a KRL
+# statement to the program (checked there), as INSERT/KRL: does in a CL file.
 proc MOM_insert {} {
-    ::redpost_post::send MOM_insert literal [::redpost_post::mom mom_Instruction]
+    set text [string trim [::redpost_post::mom mom_Instruction]]
+    if {[string equal -nocase -length 4 $text "KRL:"]} {
+        ::redpost_post::send MOM_insert literal [string trim [string range $text 4 end]]
+    } else {
+        ::redpost_post::tell "redpost: the Insert text '$text' is written as a comment, not as\
+            KRL code (write 'KRL: statement' to pass a statement through)"
+        ::redpost_post::send MOM_insert comment $text
+    }
 }
 
 # --- motions --------------------------------------------------------------------------------------

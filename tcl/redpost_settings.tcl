@@ -29,9 +29,20 @@ namespace eval ::redpost_settings {
     # (mm, deg, KUKA A-B-C). {} : the CL frame is {B} (the reference cell's table frame).
     variable placement {}
 
-    # Right-hand sides of $BASE = and $TOOL =.
-    variable base "BASE_DATA\[1\]"
+    # Right-hand sides of $BASE = and of $TOOL = before the first tool change. base "" :
+    # BASE_DATA[n] of the cell's <controller base-data> (the offset base of a coupled table).
+    variable base ""
     variable tool "TOOL_DATA\[1\]"
+    # A tool table file (docs/tools.md): CL tool number -> TOOL_DATA index and length. "" : the
+    # cell's table, else TOOL_DATA[n] with NX's tool length.
+    variable tools ""
+    # Clearance height (mm, z of the MCS): above it a rapid may be a PTP. "" : none, every
+    # rapid is a straight LIN. Rapids written as LIN move at rapid_vel (m/s).
+    variable clearance ""
+    variable rapid_vel 0.25
+    # Largest .src in bytes: a larger program is split into parts. 0: the template set's
+    # <limits>, else 4 MiB.
+    variable max_bytes 0
 
     # $APO.CDIS (mm); motions per file (0: one file); a CL-line comment every N motions;
     # chordal tolerance of circular moves (mm).

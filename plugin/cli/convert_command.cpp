@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,8 +37,13 @@ struct ConvertOptions {
   std::string joints_csv;
   std::string report_html;  // --report: an HTML report of the run; empty: none
   std::string placement;    // "x,y,z,a,b,c" of the CL frame in the cell's {B}
-  std::string base = "BASE_DATA[1]";
+  std::string base;         // empty: BASE_DATA[n] of the cell's <controller base-data>, or 1
   std::string tool = "TOOL_DATA[1]";
+  std::string tools_path;  // --tools: a tool table file
+  std::string msys = "ignore";
+  double clearance_z_mm = std::numeric_limits<double>::quiet_NaN();
+  double rapid_velocity_m_per_s = 0.25;
+  long max_bytes = 0;
   double apo_mm = 0.5;
   int split = 0;
   int cl_line_every = 50;
@@ -170,7 +176,12 @@ int run_convert(const ConvertOptions& opt) {
   o.program_name = name.c_str();
   o.joints_csv_path = opt.joints_csv.empty() ? nullptr : opt.joints_csv.c_str();
   o.source_name = opt.input.c_str();
-  o.base = opt.base.c_str();
+  o.base = opt.base.empty() ? nullptr : opt.base.c_str();
+  o.tools_path = opt.tools_path.empty() ? nullptr : opt.tools_path.c_str();
+  o.has_clearance = std::isnan(opt.clearance_z_mm) ? 0 : 1;
+  o.clearance_z_mm = opt.clearance_z_mm;
+  o.rapid_velocity_m_per_s = opt.rapid_velocity_m_per_s;
+  o.max_file_bytes = opt.max_bytes;
   o.tool = opt.tool.c_str();
   o.has_placement = opt.placement.empty() ? 0 : 1;
   std::copy(placement, placement + 6, o.placement);
@@ -182,8 +193,11 @@ int run_convert(const ConvertOptions& opt) {
   Handles h;
   if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
     return report(st, rp_last_error(nullptr));
-  if (const rp_status st = rp_reader_open(opt.input.c_str(), opt.chordal_tolerance_mm, &h.reader);
-      st != RP_OK) {
+  rp_reader_options ro;
+  rp_reader_options_init(&ro);
+  ro.chordal_tolerance_mm = opt.chordal_tolerance_mm;
+  ro.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
+  if (const rp_status st = rp_reader_open_ex(opt.input.c_str(), &ro, &h.reader); st != RP_OK) {
     return report(st, rp_last_error(nullptr));
   }
   // The observer is attached only for --report: without it the session makes no samples.
@@ -262,8 +276,26 @@ Runner add_convert_command(CLI::App& app) {
                 "toolpath views and the margins to the limits");
   c->add_option("--placement", opt->placement,
                 "Where the CL frame lies in the cell's base frame: x,y,z,a,b,c (mm, deg)");
-  c->add_option("--base", opt->base, "Right-hand side of $BASE = (default BASE_DATA[1])");
-  c->add_option("--tool", opt->tool, "Right-hand side of $TOOL = (default TOOL_DATA[1])");
+  c->add_option("--base", opt->base,
+                "Right-hand side of $BASE = (the offset base of a coupled table); default "
+                "BASE_DATA[n] with n from the cell's <controller base-data>, else 1");
+  c->add_option("--tool", opt->tool,
+                "Right-hand side of $TOOL = before the first tool change (default TOOL_DATA[1])");
+  c->add_option("--tools", opt->tools_path,
+                "Tool table file (XML, docs/tools.md): CL tool number -> TOOL_DATA index and "
+                "length; default: the cell's table, else TOOL_DATA[n] with the CL file's length");
+  c->add_option("--msys", opt->msys,
+                "What NX's MSYS means: ignore (the MCS is the workpiece frame; default) or apply "
+                "(the CL data turned into NX's absolute frame)")
+      ->check(CLI::IsMember({"ignore", "apply"}));
+  c->add_option("--clearance", opt->clearance_z_mm,
+                "Clearance height (mm, z in the CL frame): above it a rapid may be a PTP; below "
+                "it, and everywhere without it, rapids are straight LINs");
+  c->add_option("--rapid-vel", opt->rapid_velocity_m_per_s,
+                "$VEL.CP of rapids written as LIN, m/s (default 0.25)");
+  c->add_option("--max-bytes", opt->max_bytes,
+                "Largest .src in bytes: a larger program is split into parts (default: the "
+                "template set's <limits>, else 4 MiB)");
   c->add_option("--apo", opt->apo_mm, "Blending distance $APO.CDIS in mm (default 0.5)");
   c->add_option("--split", opt->split, "Motions per file; 0 keeps one file (default 0)");
   c->add_option("--cl-line-every", opt->cl_line_every,

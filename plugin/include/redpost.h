@@ -56,7 +56,8 @@ typedef struct rp_session rp_session;
 typedef struct rp_options {
   unsigned struct_size;        /* sizeof(rp_options), set by rp_options_init */
   const char* cell_path;       /* required: the cell definition (XML) */
-  const char* krl_path;        /* template set; NULL: the shipped krc4_lin */
+  const char* krl_path;        /* template set: a file, or a shipped set's name (krc4_lin,
+                                  krc4_spline, krc2_lin, krc4_circ); NULL: krc4_lin */
   const char* output_dir;      /* required, must exist */
   const char* program_name;    /* required: KRL identifier, at most 24 characters */
   const char* joints_csv_path; /* NULL: none */
@@ -69,6 +70,12 @@ typedef struct rp_options {
   int motions_per_file;        /* 0: no splitting */
   int cl_line_every;           /* a CL line comment every N motions; default 50 */
   double chordal_tolerance_mm; /* for circular moves; default 0.01 */
+  /* Added in 0.2 (hosts built against 0.1 get the defaults). */
+  const char* tools_path;        /* a tool table file (docs/tools.md); NULL: the cell's */
+  int has_clearance;             /* 1: clearance_z_mm is the clearance plane of rapids */
+  double clearance_z_mm;         /* z in the CL frame above which a rapid may be a PTP */
+  double rapid_velocity_m_per_s; /* $VEL.CP of rapids written as LIN; default 0.25 */
+  long max_file_bytes;           /* largest .src; 0: the template set's, or 4 MiB */
 } rp_options;
 
 typedef enum rp_spindle_direction {
@@ -220,7 +227,9 @@ typedef enum rp_event_kind {
   RP_EVENT_COMMENT,
   RP_EVENT_LITERAL,
   RP_EVENT_UNKNOWN_WORD,
-  RP_EVENT_END_OF_PROGRAM
+  RP_EVENT_END_OF_PROGRAM,
+  RP_EVENT_DWELL,        /* value = seconds at a hole's bottom (added in 0.2) */
+  RP_EVENT_MACHINE_FRAME /* NX MSYS: p = origin, axis = MCS z, flag = applied (added in 0.2) */
 } rp_event_kind;
 
 typedef struct rp_event {
@@ -233,12 +242,32 @@ typedef struct rp_event {
   double tool_diameter_mm, tool_length_mm;
   double value; /* spindle rpm, feed mm/min */
   rp_spindle_direction direction;
-  int flag;         /* coolant on */
+  int flag;         /* coolant on; machine frame applied */
   const char* text; /* names, comments, literals; valid until the next rp_reader_next */
+  /* Added in 0.2: a drilling cycle's clearance plane for its moves (through clearance_p,
+   * normal to the move's tool axis). */
+  int has_clearance;
+  double clearance_p[3];
 } rp_event;
+
+typedef enum rp_msys_mode {
+  RP_MSYS_IGNORE = 0, /* NX's MCS is the workpiece frame (default) */
+  RP_MSYS_APPLY = 1   /* CL data turned into NX's absolute frame by each MSYS */
+} rp_msys_mode;
+
+typedef struct rp_reader_options {
+  unsigned struct_size; /* sizeof(rp_reader_options), set by rp_reader_options_init */
+  double chordal_tolerance_mm;
+  rp_msys_mode msys;
+} rp_reader_options;
+
+RP_API void rp_reader_options_init(rp_reader_options* options);
 
 /* Opens a CL file. On failure *reader is NULL and rp_last_error(NULL) says why. */
 RP_API rp_status rp_reader_open(const char* path, double chordal_tolerance_mm, rp_reader** reader);
+/* The same with all reader options. */
+RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* options,
+                                   rp_reader** reader);
 /* The next event: RP_OK and *more = 1, or RP_OK and *more = 0 at the end; an error otherwise
  * (rp_reader_last_error gives "file:line:column: ..."). */
 RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more);

@@ -31,78 +31,9 @@
 #include "redpost/krl/template.hpp"
 #include "redpost/post/session.hpp"
 
-namespace {
+#include "abi_internal.hpp"
 
-using redpost::ErrorCode;
-
-// rp_last_error(NULL): the last failure of rp_open, rp_reader_open or a NULL handle, per thread
-// (hosts may open sessions on several threads at once).
-thread_local std::string t_error;
-
-rp_status status_of(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::bad_input:
-      return RP_ERR_BAD_INPUT;
-    case ErrorCode::io:
-      return RP_ERR_IO;
-    case ErrorCode::unreachable:
-      return RP_ERR_UNREACHABLE;
-    case ErrorCode::joint_limit:
-      return RP_ERR_JOINT_LIMIT;
-    case ErrorCode::internal:
-      return RP_ERR_INTERNAL;
-  }
-  return RP_ERR_INTERNAL;
-}
-
-// A failure the ABI itself detects (NULL argument, wrong state), carried like an Error.
-struct AbiError {
-  rp_status status;
-  std::string message;
-};
-
-// Runs f(), returning RP_OK, or the status of what it threw with `prefix` + message in `error`.
-template <class F>
-rp_status guard(std::string& error, const std::string& prefix, F&& f) noexcept {
-  try {
-    try {
-      f();
-      return RP_OK;
-    } catch (const AbiError& e) {
-      error = prefix + e.message;
-      return e.status;
-    } catch (const redpost::Error& e) {
-      error = prefix + e.what();
-      return status_of(e.code());
-    } catch (const std::bad_alloc&) {
-      error = prefix + "out of memory";
-      return RP_ERR_INTERNAL;
-    } catch (const std::exception& e) {
-      error = prefix + "internal error: " + e.what();
-      return RP_ERR_INTERNAL;
-    } catch (...) {
-      error = prefix + "internal error: an unknown exception";
-      return RP_ERR_INTERNAL;
-    }
-  } catch (...) {
-    // Building the message itself failed (out of memory): the status still gets through.
-    return RP_ERR_INTERNAL;
-  }
-}
-
-rp_status null_handle(const char* what) noexcept {
-  try {
-    t_error = std::string(what) + " is NULL";
-  } catch (...) {
-  }
-  return RP_ERR_NULL;
-}
-
-std::string required(const char* s, const char* what) {
-  if (!s)
-    throw AbiError{RP_ERR_NULL, std::string(what) + " is NULL"};
-  return s;
-}
+namespace redpost::abi {
 
 // The shipped definitions: those installed with this library (PREFIX/share/redpost/definitions)
 // when the library is the installed one, else next to a relocated install tree, else the source
@@ -128,79 +59,18 @@ std::string definitions_dir() {
   return REDPOST_SOURCE_DEFINITIONS_DIR;
 }
 
-Eigen::Vector3d vec(double x, double y, double z) {
-  return Eigen::Vector3d(x, y, z);
+// A template set: a file, or the name of a shipped set (a bare name without '/' or extension)
+// in the definitions' krl/ folder; NULL: krc4_lin.
+std::string template_set_path(const char* given) {
+  const std::string name = given ? given : "krc4_lin";
+  const bool bare = !name.empty() && name.find('/') == std::string::npos &&
+                    std::filesystem::path(name).extension().empty();
+  return bare ? definitions_dir() + "/krl/" + name + ".xml" : name;
 }
 
-}  // namespace
+}  // namespace redpost::abi
 
-struct rp_session {
-  enum class State { open, failed, closed };
-
-  // The cell and templates outlive the PostSession, which holds references to them.
-  redpost::Cell cell;
-  redpost::KrlTemplateSet templates;
-  std::unique_ptr<redpost::PostSession> post;
-  State state = State::open;
-  long events = 0;  // events sent so far, refused ones included
-  bool line_set = false;
-  int line = 0;
-  std::string failure;  // the message of the event that failed the session
-  mutable std::string error;
-  // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
-  std::optional<redpost::PostSummary> summary_kept;
-  std::optional<redpost::PoseResult> pose_kept;
-  double conditioning_threshold = 0.0;  // the tracker's, for rp_motion
-
-  const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
-  const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
-
-  int current_line() const { return line_set ? line : static_cast<int>(events); }
-
-  // Dropping the PostSession removes its temporary files; the diagnostics are copied first.
-  void abandon() {
-    if (!post)
-      return;
-    summary_kept = post->summary();
-    pose_kept = post->last_pose();
-    post.reset();
-  }
-
-  // One event: counted, refused unless open, failing the session if it throws.
-  template <class F>
-  rp_status event(F&& f) noexcept {
-    ++events;
-    std::string prefix;
-    try {
-      prefix = "event " + std::to_string(events) + ": ";
-    } catch (...) {
-      return RP_ERR_INTERNAL;
-    }
-    const rp_status s = guard(error, prefix, [&] {
-      if (state == State::failed) {
-        throw AbiError{RP_ERR_STATE, "refused because the session failed at " + failure};
-      }
-      if (state == State::closed)
-        throw AbiError{RP_ERR_STATE, "refused because the session is closed"};
-      f();
-    });
-    if (s != RP_OK && state == State::open) {
-      state = State::failed;
-      try {
-        failure = error;
-      } catch (...) {
-      }
-    }
-    return s;
-  }
-};
-
-struct rp_reader {
-  std::ifstream in;
-  std::unique_ptr<redpost::ClReader> reader;
-  redpost::ClEvent event;
-  std::string error;
-};
+using namespace redpost::abi;
 
 extern "C" {
 
@@ -216,6 +86,7 @@ RP_API void rp_options_init(rp_options* options) {
   options->apo_mm = 0.5;
   options->cl_line_every = 50;
   options->chordal_tolerance_mm = 0.01;
+  options->rapid_velocity_m_per_s = 0.25;
 }
 
 RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
@@ -246,15 +117,14 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
 
     s = std::make_unique<rp_session>();
     s->cell = redpost::load_cell(cell_path);
-    s->templates = redpost::load_krl_templates(
-        o.krl_path ? std::string(o.krl_path) : definitions_dir() + "/krl/krc4_lin.xml");
+    s->templates = redpost::load_krl_templates(template_set_path(o.krl_path));
 
     redpost::PostOptions post;
     const std::string source = o.source_name ? o.source_name : "<events>";
     post.program.name = name;
     post.program.output_dir = output_dir;
-    if (o.base)
-      post.program.base = o.base;
+    post.program.base =
+        o.base ? std::string(o.base) : fmt::format("BASE_DATA[{}]", s->cell.controller.base_data);
     if (o.tool)
       post.program.tool = o.tool;
     post.program.apo_mm = o.apo_mm;
@@ -267,6 +137,15 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     if (o.joints_csv_path)
       post.joints_csv_path = o.joints_csv_path;
     post.chordal_tolerance_mm = o.chordal_tolerance_mm;
+    post.program.max_file_bytes = o.max_file_bytes;
+    post.rapid_velocity_m_per_s = o.rapid_velocity_m_per_s;
+    if (o.has_clearance) {
+      if (!std::isfinite(o.clearance_z_mm))
+        throw AbiError{RP_ERR_BAD_INPUT, "the clearance height is not a finite number"};
+      post.clearance_z_mm = o.clearance_z_mm;
+    }
+    if (o.tools_path)
+      post.tools = redpost::load_tool_table(o.tools_path);
     if (o.has_placement) {
       const double* p = o.placement;
       for (int i = 0; i < 6; ++i) {
@@ -296,8 +175,10 @@ RP_API rp_status rp_tool_change(rp_session* session, int number, const char* nam
                                 double diameter_mm, double length_mm) {
   if (!session)
     return null_handle("the session");
-  return session->event(
-      [&] { session->post->tool_change(number, name ? name : "", diameter_mm, length_mm); });
+  return session->event([&] {
+    session->post->tool_change(number, name ? name : "", diameter_mm, length_mm,
+                               session->current_line());
+  });
 }
 
 RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_direction direction) {
@@ -383,7 +264,8 @@ RP_API rp_status rp_comment(rp_session* session, const char* text) {
 RP_API rp_status rp_literal(rp_session* session, const char* text) {
   if (!session)
     return null_handle("the session");
-  return session->event([&] { session->post->literal(required(text, "the literal")); });
+  return session->event(
+      [&] { session->post->literal(required(text, "the literal"), session->current_line()); });
 }
 
 RP_API rp_status rp_close(rp_session* session) {
@@ -575,205 +457,5 @@ RP_API const char* rp_output_file(const rp_session* session, int index) {
 }
 
 // --- Reader -------------------------------------------------------------------------------
-
-RP_API rp_status rp_reader_open(const char* path, double chordal_tolerance_mm, rp_reader** reader) {
-  if (!reader)
-    return null_handle("the reader pointer");
-  *reader = nullptr;
-  if (!path)
-    return null_handle("the path");
-  std::unique_ptr<rp_reader> r;
-  const rp_status s = guard(t_error, "", [&] {
-    if (!std::isfinite(chordal_tolerance_mm) || !(chordal_tolerance_mm > 0.0)) {
-      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the chordal tolerance must be > 0 mm, got {}",
-                                                   chordal_tolerance_mm)};
-    }
-    r = std::make_unique<rp_reader>();
-    r->in = redpost::open_text_stream(path);
-    redpost::ClReaderOptions options;
-    options.chordal_tolerance_mm = chordal_tolerance_mm;
-    r->reader = std::make_unique<redpost::ClReader>(r->in, path, options);
-  });
-  if (s == RP_OK)
-    *reader = r.release();
-  return s;
-}
-
-RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
-  if (!reader)
-    return null_handle("the reader");
-  return guard(reader->error, "", [&] {
-    if (!event || !more)
-      throw AbiError{RP_ERR_NULL, "rp_reader_next: event or more is NULL"};
-    *more = 0;
-    const redpost::ClEvent& e = reader->event;
-    if (!reader->reader->next(reader->event))
-      return;
-    rp_event out{};
-    switch (e.kind) {
-      case redpost::ClEventKind::part_name:
-        out.kind = RP_EVENT_PART_NAME;
-        break;
-      case redpost::ClEventKind::tool_change:
-        out.kind = RP_EVENT_TOOL_CHANGE;
-        break;
-      case redpost::ClEventKind::spindle:
-        out.kind = RP_EVENT_SPINDLE;
-        break;
-      case redpost::ClEventKind::feed:
-        out.kind = RP_EVENT_FEED;
-        break;
-      case redpost::ClEventKind::rapid:
-        out.kind = RP_EVENT_RAPID;
-        break;
-      case redpost::ClEventKind::move:
-        out.kind = RP_EVENT_MOVE;
-        break;
-      case redpost::ClEventKind::coolant:
-        out.kind = RP_EVENT_COOLANT;
-        break;
-      case redpost::ClEventKind::operation_start:
-        out.kind = RP_EVENT_OPERATION_START;
-        break;
-      case redpost::ClEventKind::operation_end:
-        out.kind = RP_EVENT_OPERATION_END;
-        break;
-      case redpost::ClEventKind::comment:
-        out.kind = RP_EVENT_COMMENT;
-        break;
-      case redpost::ClEventKind::literal:
-        out.kind = RP_EVENT_LITERAL;
-        break;
-      case redpost::ClEventKind::unknown_word:
-        out.kind = RP_EVENT_UNKNOWN_WORD;
-        break;
-      case redpost::ClEventKind::end_of_program:
-        out.kind = RP_EVENT_END_OF_PROGRAM;
-        break;
-    }
-    out.line = e.line;
-    for (int i = 0; i < 3; ++i) {
-      out.p[i] = e.p_mm[i];
-      out.axis[i] = e.tool_axis[i];
-    }
-    out.rapid = e.rapid ? 1 : 0;
-    out.tool_number = e.tool_number;
-    out.tool_diameter_mm = e.tool_diameter_mm;
-    out.tool_length_mm = e.tool_length_mm;
-    out.value = e.value;
-    switch (e.direction) {
-      case redpost::SpindleDirection::off:
-        out.direction = RP_SPINDLE_OFF;
-        break;
-      case redpost::SpindleDirection::clockwise:
-        out.direction = RP_SPINDLE_CW;
-        break;
-      case redpost::SpindleDirection::counter_clockwise:
-        out.direction = RP_SPINDLE_CCW;
-        break;
-    }
-    out.flag = e.flag ? 1 : 0;
-    out.text = e.text.c_str();  // the reader's event: valid until the next rp_reader_next
-    *event = out;
-    *more = 1;
-  });
-}
-
-RP_API const char* rp_reader_last_error(const rp_reader* reader) {
-  return reader ? reader->error.c_str() : t_error.c_str();
-}
-
-RP_API const char* rp_reader_warning(const rp_reader* reader, int index) {
-  if (!reader || index < 0)
-    return nullptr;
-  const std::deque<std::string>& w = reader->reader->warnings();
-  return static_cast<std::size_t>(index) < w.size() ? w[static_cast<std::size_t>(index)].c_str()
-                                                    : nullptr;
-}
-
-RP_API void rp_reader_free(rp_reader* reader) {
-  delete reader;
-}
-
-RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] {
-    if (!event)
-      throw AbiError{RP_ERR_NULL, "the event is NULL"};
-    redpost::ClEvent e;
-    switch (event->kind) {
-      case RP_EVENT_PART_NAME:
-        e.kind = redpost::ClEventKind::part_name;
-        break;
-      case RP_EVENT_TOOL_CHANGE:
-        e.kind = redpost::ClEventKind::tool_change;
-        break;
-      case RP_EVENT_SPINDLE:
-        e.kind = redpost::ClEventKind::spindle;
-        break;
-      case RP_EVENT_FEED:
-        e.kind = redpost::ClEventKind::feed;
-        break;
-      case RP_EVENT_RAPID:
-        e.kind = redpost::ClEventKind::rapid;
-        break;
-      case RP_EVENT_MOVE:
-        e.kind = redpost::ClEventKind::move;
-        break;
-      case RP_EVENT_COOLANT:
-        e.kind = redpost::ClEventKind::coolant;
-        break;
-      case RP_EVENT_OPERATION_START:
-        e.kind = redpost::ClEventKind::operation_start;
-        break;
-      case RP_EVENT_OPERATION_END:
-        e.kind = redpost::ClEventKind::operation_end;
-        break;
-      case RP_EVENT_COMMENT:
-        e.kind = redpost::ClEventKind::comment;
-        break;
-      case RP_EVENT_LITERAL:
-        e.kind = redpost::ClEventKind::literal;
-        break;
-      case RP_EVENT_UNKNOWN_WORD:
-        e.kind = redpost::ClEventKind::unknown_word;
-        break;
-      case RP_EVENT_END_OF_PROGRAM:
-        e.kind = redpost::ClEventKind::end_of_program;
-        break;
-      default:
-        throw AbiError{RP_ERR_BAD_INPUT, "event kind " +
-                                             std::to_string(static_cast<int>(event->kind)) +
-                                             " is not an rp_event_kind"};
-    }
-    e.line = event->line;
-    e.p_mm = vec(event->p[0], event->p[1], event->p[2]);
-    e.tool_axis = vec(event->axis[0], event->axis[1], event->axis[2]);
-    e.rapid = event->rapid != 0;
-    e.tool_number = event->tool_number;
-    e.tool_diameter_mm = event->tool_diameter_mm;
-    e.tool_length_mm = event->tool_length_mm;
-    e.value = event->value;
-    switch (event->direction) {
-      case RP_SPINDLE_OFF:
-        e.direction = redpost::SpindleDirection::off;
-        break;
-      case RP_SPINDLE_CW:
-        e.direction = redpost::SpindleDirection::clockwise;
-        break;
-      case RP_SPINDLE_CCW:
-        e.direction = redpost::SpindleDirection::counter_clockwise;
-        break;
-      default:
-        if (e.kind == redpost::ClEventKind::spindle)
-          throw AbiError{RP_ERR_BAD_INPUT, "the spindle direction is not an rp_spindle_direction"};
-    }
-    e.flag = event->flag != 0;
-    if (event->text)
-      e.text = event->text;
-    session->post->handle(e);
-  });
-}
 
 }  // extern "C"

@@ -157,27 +157,125 @@ int cmd_version(ClientData, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[])
 const char* const kOpenUsage =
     "-cell CELL.xml -output DIR -name NAME ?-krl SET.xml? ?-joints-csv FILE? ?-source NAME? "
     "?-base EXPR? ?-tool EXPR? ?-placement {x y z a b c}? ?-apo MM? ?-split N? "
-    "?-cl-line-every N? ?-chordal-tol MM?";
+    "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
+    "?-max-bytes N?";
+
+// The options of ::redpost::open, in the order of kOpenOptions.
+const char* const kOpenOptions[] = {
+    "-cell",        "-krl",   "-output",    "-name",      "-joints-csv", "-source",
+    "-base",        "-tool",  "-apo",       "-split",     "-placement",  "-cl-line-every",
+    "-chordal-tol", "-tools", "-clearance", "-rapid-vel", "-max-bytes",  nullptr};
+enum OpenOption {
+  o_cell,
+  o_krl,
+  o_output,
+  o_name,
+  o_joints,
+  o_source,
+  o_base,
+  o_tool,
+  o_apo,
+  o_split,
+  o_placement,
+  o_cl_line_every,
+  o_chordal,
+  o_tools,
+  o_clearance,
+  o_rapid_vel,
+  o_max_bytes
+};
+
+// One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
+// duration of rp_open).
+int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
+  switch (index) {
+    case o_cell:
+      opt.cell_path = Tcl_GetString(v);
+      break;
+    case o_krl:
+      opt.krl_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_output:
+      opt.output_dir = Tcl_GetString(v);
+      break;
+    case o_name:
+      opt.program_name = Tcl_GetString(v);
+      break;
+    case o_joints:
+      opt.joints_csv_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_source:
+      opt.source_name = Tcl_GetString(v);
+      break;
+    case o_base:
+      opt.base = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_tools:
+      opt.tools_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_clearance:
+      if (*Tcl_GetString(v)) {  // empty: none
+        if (get_double(interp, v, "-clearance", &opt.clearance_z_mm) != TCL_OK)
+          return TCL_ERROR;
+        opt.has_clearance = 1;
+      }
+      break;
+    case o_rapid_vel:
+      if (get_double(interp, v, "-rapid-vel", &opt.rapid_velocity_m_per_s) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_max_bytes: {
+      Tcl_WideInt n = 0;
+      if (Tcl_GetWideIntFromObj(interp, v, &n) != TCL_OK)
+        return TCL_ERROR;
+      opt.max_file_bytes = static_cast<long>(n);
+      break;
+    }
+    case o_tool:
+      opt.tool = Tcl_GetString(v);
+      break;
+    case o_apo:
+      if (get_double(interp, v, "-apo", &opt.apo_mm) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_split:
+      if (get_int(interp, v, "-split", &opt.motions_per_file) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_cl_line_every:
+      if (get_int(interp, v, "-cl-line-every", &opt.cl_line_every) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_chordal:
+      if (get_double(interp, v, "-chordal-tol", &opt.chordal_tolerance_mm) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_placement: {
+      Tcl_Size n = 0;
+      Tcl_Obj** items = nullptr;
+      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+        return TCL_ERROR;
+      if (n == 0)
+        break;  // empty: no placement
+      if (n != 6) {
+        Tcl_SetObjResult(interp,
+                         Tcl_ObjPrintf("-placement takes six numbers {x y z a b c}, got \"%s\"",
+                                       Tcl_GetString(v)));
+        Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+        return TCL_ERROR;
+      }
+      for (int k = 0; k < 6; ++k) {
+        if (get_double(interp, items[k], "-placement", &opt.placement[k]) != TCL_OK)
+          return TCL_ERROR;
+      }
+      opt.has_placement = 1;
+      break;
+    }
+  }
+  return TCL_OK;
+}
 
 int cmd_open(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  static const char* const kOptions[] = {
-      "-cell", "-krl", "-output", "-name",      "-joints-csv",    "-source",      "-base",
-      "-tool", "-apo", "-split",  "-placement", "-cl-line-every", "-chordal-tol", nullptr};
-  enum {
-    o_cell,
-    o_krl,
-    o_output,
-    o_name,
-    o_joints,
-    o_source,
-    o_base,
-    o_tool,
-    o_apo,
-    o_split,
-    o_placement,
-    o_cl_line_every,
-    o_chordal
-  };
   if (objc % 2 != 1)
     return usage(interp, objv, kOpenUsage);
   rp_options opt;
@@ -185,72 +283,10 @@ int cmd_open(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[])
   // The strings stay owned by objv for the duration of rp_open.
   for (int i = 1; i < objc; i += 2) {
     int index = 0;
-    if (Tcl_GetIndexFromObj(interp, objv[i], kOptions, "option", 0, &index) != TCL_OK)
+    if (Tcl_GetIndexFromObj(interp, objv[i], kOpenOptions, "option", 0, &index) != TCL_OK)
       return TCL_ERROR;
-    Tcl_Obj* v = objv[i + 1];
-    switch (index) {
-      case o_cell:
-        opt.cell_path = Tcl_GetString(v);
-        break;
-      case o_krl:
-        opt.krl_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
-        break;
-      case o_output:
-        opt.output_dir = Tcl_GetString(v);
-        break;
-      case o_name:
-        opt.program_name = Tcl_GetString(v);
-        break;
-      case o_joints:
-        opt.joints_csv_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
-        break;
-      case o_source:
-        opt.source_name = Tcl_GetString(v);
-        break;
-      case o_base:
-        opt.base = Tcl_GetString(v);
-        break;
-      case o_tool:
-        opt.tool = Tcl_GetString(v);
-        break;
-      case o_apo:
-        if (get_double(interp, v, "-apo", &opt.apo_mm) != TCL_OK)
-          return TCL_ERROR;
-        break;
-      case o_split:
-        if (get_int(interp, v, "-split", &opt.motions_per_file) != TCL_OK)
-          return TCL_ERROR;
-        break;
-      case o_cl_line_every:
-        if (get_int(interp, v, "-cl-line-every", &opt.cl_line_every) != TCL_OK)
-          return TCL_ERROR;
-        break;
-      case o_chordal:
-        if (get_double(interp, v, "-chordal-tol", &opt.chordal_tolerance_mm) != TCL_OK)
-          return TCL_ERROR;
-        break;
-      case o_placement: {
-        Tcl_Size n = 0;
-        Tcl_Obj** items = nullptr;
-        if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
-          return TCL_ERROR;
-        if (n == 0)
-          break;  // empty: no placement
-        if (n != 6) {
-          Tcl_SetObjResult(interp,
-                           Tcl_ObjPrintf("-placement takes six numbers {x y z a b c}, got \"%s\"",
-                                         Tcl_GetString(v)));
-          Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
-          return TCL_ERROR;
-        }
-        for (int k = 0; k < 6; ++k) {
-          if (get_double(interp, items[k], "-placement", &opt.placement[k]) != TCL_OK)
-            return TCL_ERROR;
-        }
-        opt.has_placement = 1;
-        break;
-      }
-    }
+    if (open_option(interp, index, objv[i + 1], opt) != TCL_OK)
+      return TCL_ERROR;
   }
   if (!opt.cell_path || !opt.output_dir || !opt.program_name) {
     Tcl_SetObjResult(
@@ -470,13 +506,22 @@ int cmd_output_files(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const
 // --- reader -------------------------------------------------------------------------------------
 
 int cmd_reader_open(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  if (objc != 2 && objc != 3)
-    return usage(interp, objv, "path ?chordal_tolerance_mm?");
-  double tol = 0.01;
-  if (objc == 3 && get_double(interp, objv[2], "chordal_tolerance_mm", &tol) != TCL_OK)
+  if (objc < 2 || objc > 4)
+    return usage(interp, objv, "path ?chordal_tolerance_mm? ?msys (ignore|apply)?");
+  rp_reader_options ro;
+  rp_reader_options_init(&ro);
+  if (objc >= 3 &&
+      get_double(interp, objv[2], "chordal_tolerance_mm", &ro.chordal_tolerance_mm) != TCL_OK)
     return TCL_ERROR;
+  if (objc == 4) {
+    static const char* const kMsys[] = {"ignore", "apply", nullptr};
+    int m = 0;
+    if (Tcl_GetIndexFromObj(interp, objv[3], kMsys, "msys mode", 0, &m) != TCL_OK)
+      return TCL_ERROR;
+    ro.msys = m == 1 ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
+  }
   rp_reader* r = nullptr;
-  const rp_status st = rp_reader_open(Tcl_GetString(objv[1]), tol, &r);
+  const rp_status st = rp_reader_open_ex(Tcl_GetString(objv[1]), &ro, &r);
   if (st != RP_OK || !r)
     return fail(interp, st == RP_OK ? RP_ERR_INTERNAL : st, rp_last_error(nullptr));
   const std::string handle = "rpreader" + std::to_string(STATE->next_id++);
@@ -513,6 +558,10 @@ const char* event_kind_name(rp_event_kind k) {
       return "unknown_word";
     case RP_EVENT_END_OF_PROGRAM:
       return "end_of_program";
+    case RP_EVENT_DWELL:
+      return "dwell";
+    case RP_EVENT_MACHINE_FRAME:
+      return "machine_frame";
   }
   return "unknown";
 }
@@ -559,6 +608,8 @@ int cmd_reader_next(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const 
   put(d, "direction", Tcl_NewStringObj(direction_name(e.direction), -1));
   put(d, "flag", Tcl_NewIntObj(e.flag));
   put(d, "text", Tcl_NewStringObj(e.text ? e.text : "", -1));
+  put(d, "has_clearance", Tcl_NewIntObj(e.has_clearance));
+  put(d, "clearance_p", double_list(e.clearance_p, 3));
   Tcl_SetObjResult(interp, d);
   return TCL_OK;
 }

@@ -71,6 +71,9 @@ rp_session* open_session(const std::string& dir) {
   o.cell_path = kCell.c_str();
   o.output_dir = dir.c_str();
   o.program_name = "OBS";
+  // A clearance plane under the whole path: every rapid may be a PTP (docs/convert.md).
+  o.has_clearance = 1;
+  o.clearance_z_mm = -1e4;
   rp_session* s = nullptr;
   REQUIRE(rp_open(&o, &s) == RP_OK);
   return s;

@@ -38,7 +38,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     info.header_comment = "fuzz";
     redpost::KrlWriter writer(templates, info);
     writer.comment("start");
-    writer.tool_change(2, "T2");
+    redpost::KrlToolChange change;
+    change.number = 2;
+    change.name = "T2";
+    change.tool_data = 2;
+    change.tool = "TOOL_DATA[2]";
+    writer.tool_change(change);
+    writer.dwell(0.5);
     writer.spindle(8000, true);
     writer.coolant(true, "FLOOD");
     writer.motion(motion(redpost::KrlMotionKind::ptp_axes, 0.0, 1));

@@ -10,7 +10,7 @@ cell=$src/definitions/cells/andres2011_kr15_track_table.xml
 cases=(
   "pocket_arcs krc4_lin pocket_arcs.apt"
   "pocket_arcs_spline krc4_spline pocket_arcs.apt"
-  "pocket_arcs_krc2 krc2_lin pocket_arcs.apt"
+  "pocket_arcs_krc2 krc2_lin pocket_arcs.apt --clearance 100"
   "surface_5axis krc4_lin surface_5axis.cls"
   "long_pass krc4_lin long_pass.apt --split 150"
 )

@@ -151,7 +151,7 @@ check session.events {
     ::redpost::linear_move $s -72 -480 57 0 0 1
     ::redpost::set_line $s 15
     ::redpost::circular_move $s -72 -468 57 0 0 1 12 -60 -468 57 0 0 1
-    ::redpost::literal $s "; a literal line"
+    ::redpost::literal $s {$OUT[17] = TRUE ; a literal line}
     ::redpost::coolant $s 0 FLOOD
     ::redpost::spindle $s 0 OFF
     ::redpost::operation_end $s
@@ -173,7 +173,14 @@ check session.files {
     set text [slurp $work/session/SESSION.src]
     expr {[file exists $work/session/SESSION.dat] && [string match *DEF\ SESSION* $text]}
 }
-check session.literal {string match "*; a literal line*" [slurp $work/session/SESSION.src]}
+check session.literal {string match {*$OUT\[17\] = TRUE ; a literal line*} \
+    [slurp $work/session/SESSION.src]} 1
+# Free text is never KRL: a literal that is not one of the statements redpost checks is refused.
+file mkdir $work/literal
+set s_lit [::redpost::open -cell $cell -output $work/literal -name LIT -source lit.apt]
+check_error session.literal_refused {::redpost::literal $s_lit "this is not KRL at all !!"} \
+    {REDPOST RP_ERR_BAD_INPUT} {*cannot be passed to the KRL program*}
+::redpost::free $s_lit
 check session.comment {string match "*made by test_package.tcl*" [slurp $work/session/SESSION.src]}
 check_error session.after_close {::redpost::rapid $s} {REDPOST RP_ERR_STATE} *
 check session.free {::redpost::free $s; info commands ::redpost::free} ::redpost::free
@@ -375,7 +382,7 @@ set tclsh [info nameofexecutable]
 set cases {
     pocket_arcs krc4_lin pocket_arcs.apt {}
     pocket_arcs_spline krc4_spline pocket_arcs.apt {}
-    pocket_arcs_krc2 krc2_lin pocket_arcs.apt {}
+    pocket_arcs_krc2 krc2_lin pocket_arcs.apt {--clearance 100}
     surface_5axis krc4_lin surface_5axis.cls {}
     long_pass krc4_lin long_pass.apt {--split 150}
     long_pass_opts krc4_lin long_pass.apt {--apo 1 --cl-line-every 7 --base BASE_DATA[3] --tool TOOL_DATA[2]}

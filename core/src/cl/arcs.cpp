@@ -23,8 +23,8 @@ void ClReader::Impl::on_circle() {
   }
   if (cycle.active)
     fail_word("CIRCLE while a CYCLE is active: give CYCLE/OFF first");
-  arc_centre = point(0);
-  Vector3d a = unit_vector(3, "the circle axis");
+  arc_centre = in_frame_point(point(0));
+  Vector3d a = in_frame_vector(unit_vector(3, "the circle axis"));
   // NX writes the axis "assuming a clockwise direction" (NX CLSF manual, CIRCLE); APT and
   // SolidWorks CAM by the right-hand rule. Keep the right-hand one.
   arc_axis = nx ? Vector3d(-a) : a;

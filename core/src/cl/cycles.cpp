@@ -9,6 +9,12 @@
 namespace redpost {
 
 namespace {
+// A longer dwell is a typo (a value in milliseconds, or revolutions): the spindle would run for
+// minutes at the hole bottom.
+constexpr double kMaxDwellSeconds = 600.0;
+}  // namespace
+
+namespace {
 
 constexpr double kMaxPecks = 1e8;  // more pecks than this is a SUBPECK typo
 
@@ -89,9 +95,12 @@ void ClReader::Impl::read_cycle_parameters(std::size_t i, bool deep) {
       c.feed_mm_per_min = feed_value(val, key.text);
       has_feed = true;
     } else if (is(key, "DWELL")) {
-      if (non_negative_length(val, "DWELL") > 0.0) {
-        warn_once("DWELL", record_line,
-                  name + ": DWELL ignored (a robot program gets no dwell at the hole bottom)");
+      // Seconds at the hole bottom, written as the template set's dwell (WAIT SEC).
+      c.dwell_s = number(val);
+      if (c.dwell_s < 0.0 || c.dwell_s > kMaxDwellSeconds) {
+        fail_at(val.offset, name + ": DWELL must be 0 to " +
+                                std::to_string(static_cast<int>(kMaxDwellSeconds)) +
+                                " seconds, got " + std::string(val.text));
       }
     } else if (is(key, "1STPECK")) {
       c.first_peck_mm = positive_length(val, "1STPECK");
@@ -143,12 +152,18 @@ void ClReader::Impl::interrupt_cycle() {
 void ClReader::Impl::check_cycle_not_interrupted() const {
   if (!cycle.interrupted)
     return;
+  // Not "add CYCLE/OFF before the tool change": the points after it are usually the next
+  // tool's holes (on the part's surface), and as plain moves the tool would be dragged across
+  // the part between them.
   fail_word("the CYCLE of line " + std::to_string(cycle.line) +
             " was still on when the tool changed at line " +
             std::to_string(cycle.interrupted_line) +
             " (no CYCLE/OFF): redpost cannot tell whether this " + word +
-            " is a hole of that cycle or a plain move; add CYCLE/OFF before the tool change, "
-            "or repeat the CYCLE after it");
+            " is a hole of that cycle or a plain move, and will not guess. Fix it in the CAM "
+            "system: end the cycle where its last hole is done (the tool retracts to RTRCTO), "
+            "and give the next tool's holes a CYCLE/ of their own after its LOAD/TOOL. Do not "
+            "only insert CYCLE/OFF before the tool change: points on the part's surface would "
+            "then become plain moves between the holes, through the part");
 }
 
 // A hole at `p` (the GOTO point, on the surface): travel at the retract height, rapid to the
@@ -185,6 +200,9 @@ void ClReader::Impl::hole_move(double above_mm, bool rapid) {
   if (pos_known && (q - pos).norm() <= 1e-9)
     return;
   push_move(q, gen_axis, MoveOrigin::cycle, rapid, gen_line);
+  ClEvent& e = queue.back();
+  e.has_clearance = true;
+  e.clearance_p_mm = hole_point + cycle.clearance_mm * gen_axis;
   pos = q;
   pos_known = true;
 }
@@ -210,7 +228,12 @@ void ClReader::Impl::run_hole() {
         break;
       case HolePhase::cut:
         hole_move(-peck_depth(hole_peck), false);
-        hole_phase = hole_peck + 1 < hole_pecks ? HolePhase::peck_out : HolePhase::feed_off;
+        hole_phase = hole_peck + 1 < hole_pecks ? HolePhase::peck_out : HolePhase::dwell;
+        break;
+      case HolePhase::dwell:
+        if (cycle.dwell_s > 0.0)
+          push(ClEventKind::dwell, gen_line).value = cycle.dwell_s;
+        hole_phase = HolePhase::feed_off;
         break;
       case HolePhase::peck_out:
         hole_move(cycle.clearance_mm, true);

@@ -71,10 +71,10 @@ void ClReader::Impl::on_goto(MoveOrigin origin) {
                                   std::to_string(fields.size()) + " values");
   if (cycle.active && origin != MoveOrigin::goto_point)
     fail_word(word + " while a CYCLE is active: only GOTO (a hole) is allowed until CYCLE/OFF");
-  const Vector3d p = point(0);
+  const Vector3d p = in_frame_point(point(0));
   const Vector3d before_axis = axis;
   if (fields.size() == 6) {
-    axis = unit_vector(3, "the tool axis");
+    axis = in_frame_vector(unit_vector(3, "the tool axis"));
     axis_known = true;
   } else {
     current_axis();
@@ -103,7 +103,7 @@ void ClReader::Impl::on_godlta() {
   if (!pos_known)
     fail_word("GODLTA needs a known position, but no GOTO or FROM came before it");
   const Vector3d delta =
-      fields.size() == 1 ? Vector3d(length(fields[0]) * current_axis()) : Vector3d(point(0));
+      fields.size() == 1 ? Vector3d(length(fields[0]) * current_axis()) : in_frame_vector(point(0));
   if (fields.size() == 3)
     current_axis();
   pos += delta;
@@ -121,7 +121,7 @@ void ClReader::Impl::on_rapid() {
 void ClReader::Impl::on_tlaxis() {
   split_fields();
   expect_count(3, 3, "3 values (i,j,k); other forms such as TLAXIS/NORMPS are not supported");
-  axis = unit_vector(0, "the tool axis");
+  axis = in_frame_vector(unit_vector(0, "the tool axis"));
   axis_known = true;
 }
 

@@ -56,7 +56,7 @@ void ClReader::Impl::on_knot() {
 void ClReader::Impl::on_cntrl() {
   split_fields();
   expect_count(3, 4, "3 values (x,y,z) or 4 (x,y,z,weight)");
-  const Vector3d p = point(0);
+  const Vector3d p = in_frame_point(point(0));
   double w = 1.0;
   if (fields.size() == 4) {
     w = number(fields[3]);

@@ -149,9 +149,9 @@ void ClReader::Impl::dispatch() {
   } else if (w == "PARTNO") {
     push_text(ClEventKind::part_name, trim(raw_args()));
   } else if (w == "PPRINT") {
-    push_text(ClEventKind::comment, trim(raw_args()));
+    on_operator_text(false);
   } else if (w == "INSERT") {
-    push_text(ClEventKind::literal, trim_right(raw_args()));
+    on_operator_text(true);
   } else if (w == "UNITS" || w == "UNIT") {
     on_units();
   } else if (w == "MULTAX") {
@@ -194,6 +194,45 @@ void ClReader::Impl::on_unknown() {
   warnings.push_back(
       format_error(SourceLocation{source, record_line, 0}, "unknown word " + word + " ignored"));
   push(ClEventKind::unknown_word, record_line).text = word;
+}
+
+// INSERT and PPRINT carry operator text: tool holders, stock sizes, notes. Written into a KRL
+// program as it stands such a line is a syntax error (or, worse, a statement), so it becomes a
+// comment, with a warning that names the line. Only the explicit form INSERT/KRL: statement
+// passes code through; the writer checks that statement before it is written.
+void ClReader::Impl::on_operator_text(bool insert) {
+  const std::string_view text = trim(raw_args());
+  constexpr std::string_view kPass = "KRL:";
+  if (insert && text.size() >= kPass.size() && iequals(text.substr(0, kPass.size()), kPass)) {
+    const std::string_view code = trim(text.substr(kPass.size()));
+    if (code.empty())
+      fail_word("INSERT/KRL: needs a KRL statement after it (docs/cl-format.md, \"INSERT\")");
+    push_text(ClEventKind::literal, code);
+    return;
+  }
+  push_text(ClEventKind::comment, text);
+  if (insert) {
+    warn_text("INSERT", "INSERT/ text written as a comment, not as KRL code: '" +
+                            std::string(text.substr(0, 60)) + (text.size() > 60 ? "...'" : "'") +
+                            " (to pass a KRL statement through, write INSERT/KRL: statement)");
+  } else {
+    warn_text("PPRINT", "PPRINT/ text written as a comment");
+  }
+}
+
+// One warning per operator-text record, each with its line, up to a cap: a file of thousands of
+// PPRINTs must not bury the other warnings.
+void ClReader::Impl::warn_text(const char* kind, const std::string& message) {
+  constexpr int kMaxTextWarnings = 20;
+  if (text_warnings < kMaxTextWarnings) {
+    ++text_warnings;
+    warnings.push_back(format_error(SourceLocation{source, record_line, 0}, message));
+  } else {
+    warn_once("many operator texts", record_line,
+              std::string("more INSERT/PPRINT text (first not listed: this ") + kind +
+                  "): all written as comments; only the first " + std::to_string(kMaxTextWarnings) +
+                  " are listed");
+  }
 }
 
 void ClReader::Impl::run_generator() {

@@ -48,6 +48,7 @@ struct ClReader::Impl : detail::ClRecordReader {
     double feed_mm_per_min = 0.0;
     double first_peck_mm = 0.0;
     double next_peck_mm = 0.0;
+    double dwell_s = 0.0;  // DWELL at the hole bottom
   };
 
   enum class HolePhase {
@@ -57,6 +58,7 @@ struct ClReader::Impl : detail::ClRecordReader {
     reenter,
     cut,
     peck_out,
+    dwell,
     feed_off,
     retract,
     done
@@ -73,6 +75,8 @@ struct ClReader::Impl : detail::ClRecordReader {
   void emit_comments();
   void dispatch();
   void on_unknown();
+  void on_operator_text(bool insert);
+  void warn_text(const char* kind, const std::string& message);
   void run_generator();
 
   // ---- motion.cpp: events, GOTO, FROM, GODLTA, RAPID, TLAXIS ---------------------------------
@@ -128,6 +132,8 @@ struct ClReader::Impl : detail::ClRecordReader {
   void on_units();
   void on_multax();
   void on_msys();
+  Vector3d in_frame_point(const Vector3d& p) const;
+  Vector3d in_frame_vector(const Vector3d& v) const;
   void on_csys();
   void on_trntyp();
   void on_cutcom();
@@ -143,6 +149,7 @@ struct ClReader::Impl : detail::ClRecordReader {
   std::deque<std::string> warnings;
   std::set<std::string> warned;                      // keys of warnings already given
   std::set<std::string, std::less<>> unknown_words;  // unknown major words already reported
+  int text_warnings = 0;  // INSERT and PPRINT warnings given (each names its line, up to a cap)
 
   // ---- machine state (unit_mm is in ClRecordReader) ------------------------------------------
   bool nx;                   // NX CLSF conventions (see ClDialect)
@@ -160,6 +167,14 @@ struct ClReader::Impl : detail::ClRecordReader {
   double spindle_rpm = 0.0;       // 0 while stopped
   double last_spindle_rpm = 0.0;  // for SPINDL/ON
   SpindleDirection last_direction = SpindleDirection::clockwise;
+  // MSYS: the first one (all must agree with it under MsysMode::ignore) and, under apply, the
+  // transform from the current MCS into NX's absolute frame.
+  int msys_line = 0;
+  Eigen::Matrix3d msys_R = Eigen::Matrix3d::Identity();
+  Vector3d msys_origin = Vector3d::Zero();
+  bool frame_applied = false;
+  Eigen::Matrix3d frame_R = Eigen::Matrix3d::Identity();
+  Vector3d frame_origin = Vector3d::Zero();
   double tool_diameter_mm = 0.0;
   double tool_length_mm = 0.0;
   std::string tool_name;

@@ -266,18 +266,57 @@ void ClReader::Impl::on_multax() {
   }
 }
 
-// NX's machine coordinate system: origin and X, Y axes in NX's absolute frame. The CL points
-// are already in the MCS, which redpost takes as the workpiece frame; MSYS is only checked.
+// NX's machine coordinate system (MCS): origin and X, Y axes in NX's absolute frame. NX writes
+// every point, tool axis and circle of the path after it in the MCS ("x,y,z is the center ...
+// in MCS", NX CLSF manual, CIRCLE), docs/cl-format.md "MSYS" gives the evidence. Under
+// MsysMode::ignore the MCS is the workpiece frame that --placement puts in the cell; the MSYS is
+// checked, and a later, different one refused (its operations would be in another frame).
+// Under apply the data are turned into the absolute frame, each operation by its own MSYS.
 void ClReader::Impl::on_msys() {
   split_fields();
   expect_count(9, 9, "9 values (origin x,y,z, X axis i,j,k, Y axis i,j,k)");
-  point(0);
+  const Vector3d origin = point(0);
   const Vector3d x(number(fields[3]), number(fields[4]), number(fields[5]));
   const Vector3d y(number(fields[6]), number(fields[7]), number(fields[8]));
   if (std::fabs(x.norm() - 1.0) > 1e-3 || std::fabs(y.norm() - 1.0) > 1e-3 ||
       std::fabs(x.dot(y)) > 1e-3) {
     fail_at(fields[3].offset, "MSYS: the X and Y axes must be orthogonal unit vectors");
   }
+  Eigen::Matrix3d R;
+  R.col(0) = x.normalized();
+  R.col(2) = x.cross(y).normalized();
+  R.col(1) = R.col(2).cross(R.col(0));
+  const bool apply = opt.msys == MsysMode::apply;
+  if (!apply && msys_line != 0 &&
+      ((origin - msys_origin).norm() > opt.point_match_tolerance_mm ||
+       (R - msys_R).cwiseAbs().maxCoeff() > 1e-6)) {
+    fail_word("this MSYS differs from the one at line " + std::to_string(msys_line) +
+              ": the operations after it are in another machine coordinate system, and with "
+              "--msys ignore they would all be placed as if in one. Convert with --msys apply "
+              "(every operation turned into NX's absolute frame), or post each set-up on its own");
+  }
+  if (msys_line == 0 || apply) {
+    msys_line = record_line;
+    msys_R = R;
+    msys_origin = origin;
+  }
+  if (apply) {
+    frame_applied = true;
+    frame_R = R;
+    frame_origin = origin;
+  }
+  ClEvent& e = push(ClEventKind::machine_frame, record_line);
+  e.p_mm = origin;
+  e.tool_axis = R.col(2);
+  e.flag = apply;
+}
+
+// A point or a direction read from the CL data, in the frame the events are given in.
+Eigen::Vector3d ClReader::Impl::in_frame_point(const Vector3d& p) const {
+  return frame_applied ? Eigen::Vector3d(frame_origin + frame_R * p) : p;
+}
+Eigen::Vector3d ClReader::Impl::in_frame_vector(const Vector3d& v) const {
+  return frame_applied ? Eigen::Vector3d(frame_R * v) : v;
 }
 
 // A 3 x 4 matrix [R | t]. redpost reads only the identity (both layouts in use: rows of

@@ -29,6 +29,7 @@ using tinyxml2::XMLElement;
 constexpr double kMaxLengthMm = 1e7;    // 10 km
 constexpr double kMaxAngleDeg = 1e5;    // about 280 turns
 constexpr double kMaxStiffness = 1e15;  // N*mm/rad
+constexpr double kMaxToolLengthMm = 2000.0;
 
 class Reader : public detail::StrictXml {
  public:
@@ -319,7 +320,130 @@ Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_conven
   return j;
 }
 
+// A whole number attribute in [lo, hi].
+int whole(const Reader& r, const XMLElement* e, const char* attr, int lo, int hi) {
+  const double v = r.plain(e, attr, 1e9);
+  if (v != std::floor(v) || v < lo || v > hi) {
+    r.fail(e, std::string("<") + e->Name() + "> attribute '" + attr +
+                  "' must be a whole number "
+                  "from " +
+                  std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
+                  r.required(e, attr));
+  }
+  return static_cast<int>(v);
+}
+
+// A KRL name: a letter, then letters, digits and '_', at most 24 characters.
+bool krl_name(const std::string& s) {
+  if (s.empty() || s.size() > 24 || !std::isalpha(static_cast<unsigned char>(s[0])))
+    return false;
+  for (char c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
+      return false;
+  }
+  return true;
+}
+
+// <tool-table>: in a cell (with its reference-length) or as a file's root (entries only).
+ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
+  r.only_attributes(e, in_cell ? std::initializer_list<std::string_view>{"reference-length"}
+                               : std::initializer_list<std::string_view>{});
+  ToolTable table;
+  table.source = r.source();
+  if (in_cell && e->Attribute("reference-length")) {
+    table.reference_length_mm = r.length_mm(e, "reference-length", 0.0);
+    if (!(table.reference_length_mm > 0.0) || table.reference_length_mm > kMaxToolLengthMm) {
+      r.fail(e, "<tool-table> reference-length must be > 0 and at most 2000 mm");
+    }
+  }
+  for (const XMLElement* t = e->FirstChildElement(); t; t = t->NextSiblingElement()) {
+    if (std::string_view(t->Name()) != "tool")
+      r.fail(t, std::string("unknown element <") + t->Name() + "> in <tool-table> (known: tool)");
+    r.only_attributes(t, {"number", "data", "length", "name"});
+    ToolEntry entry;
+    entry.line = t->GetLineNum();
+    entry.number = whole(r, t, "number", 0, 1000000);
+    entry.tool_data = whole(r, t, "data", 1, kMaxToolData);
+    r.required(t, "length");
+    entry.length_mm = r.length_mm(t, "length", 0.0);
+    if (!(entry.length_mm > 0.0) || entry.length_mm > kMaxToolLengthMm)
+      r.fail(t,
+             "tool " + std::to_string(entry.number) + ": length must be > 0 and at most 2000 mm");
+    if (const char* n = t->Attribute("name"))
+      entry.name = n;
+    for (const ToolEntry& other : table.tools) {
+      if (other.number == entry.number) {
+        r.fail(t, "tool " + std::to_string(entry.number) + " is given twice (first at line " +
+                      std::to_string(other.line) + ")");
+      }
+    }
+    table.tools.push_back(std::move(entry));
+  }
+  return table;
+}
+
+// <controller>: the base's kinematic coupling, the tool change routine (docs/cell-format.md).
+ControllerSettings read_controller(const Reader& r, const XMLElement* e, const Cell& cell) {
+  r.only_attributes(e, {"base-data", "tool-change-routine"});
+  ControllerSettings c;
+  if (e->Attribute("base-data"))
+    c.base_data = whole(r, e, "base-data", 1, 32);
+  if (const char* routine = e->Attribute("tool-change-routine")) {
+    c.tool_change_routine = routine;
+    if (!krl_name(c.tool_change_routine)) {
+      r.fail(e, "tool-change-routine \"" + c.tool_change_routine +
+                    "\" is not a KRL name (a letter, then letters, digits and _, at most 24)");
+    }
+  }
+  for (const XMLElement* k = e->FirstChildElement(); k; k = k->NextSiblingElement()) {
+    if (std::string_view(k->Name()) != "kinematic")
+      r.fail(k,
+             std::string("unknown element <") + k->Name() + "> in <controller> (known: kinematic)");
+    r.only_attributes(k, {"axis", "type", "machine-def"});
+    const std::string axis = r.required(k, "axis"), type = r.required(k, "type");
+    int joint = -1;
+    for (int i = 0; i < cell.size(); ++i) {
+      if (cell.joint(i).axis.kind == AxisKind::external && axis_name(cell.joint(i).axis) == axis)
+        joint = i;
+    }
+    if (joint < 0)
+      r.fail(k,
+             "<kinematic axis=\"" + axis + "\">: no joint of the cell drives that external axis");
+    if (type == "base") {
+      if (c.coupled_base_joint >= 0)
+        r.fail(k, "two base kinematics: the base can turn with one only");
+      c.coupled_base_joint = joint;
+      c.machine_def = k->Attribute("machine-def") ? whole(r, k, "machine-def", 2, 64) : 2;
+    } else if (type == "robroot") {
+      if (c.robroot_joint >= 0)
+        r.fail(k, "two ROBROOT kinematics");
+      if (k->Attribute("machine-def"))
+        r.fail(k, "machine-def belongs to a base kinematic");
+      c.robroot_joint = joint;
+    } else {
+      r.fail(k, "<kinematic> type \"" + type + "\" is unknown (base or robroot)");
+    }
+  }
+  return c;
+}
+
 }  // namespace
+
+ToolTable parse_tool_table(const std::string& xml_text, const std::string& source_name) {
+  Reader r(source_name);
+  tinyxml2::XMLDocument doc;
+  const XMLElement* root = r.parse(doc, xml_text, "tool-table");
+  if (root->Attribute("reference-length")) {
+    r.fail(root,
+           "reference-length belongs in the cell file: it is the tool length of the "
+           "cell's TCP");
+  }
+  return read_tool_table(r, root, false);
+}
+
+ToolTable load_tool_table(const std::string& path) {
+  return parse_tool_table(read_text_file(path), path);
+}
 
 Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
   Reader r(source_name);
@@ -339,6 +463,8 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
   bool have_pending = false;
   bool seen_tool = false, seen_base = false, seen_cond = false;
   const XMLElement* cond = nullptr;
+  const XMLElement* controller = nullptr;
+  const XMLElement* tool_table = nullptr;
   std::set<std::string> names;
   std::map<std::string, std::string> axis_owner;  // axis name -> joint
 
@@ -385,9 +511,18 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
         r.fail(e, "<conditioning> given twice");
       seen_cond = true;
       cond = e;
+    } else if (n == "controller") {
+      if (controller)
+        r.fail(e, "<controller> given twice");
+      controller = e;
+    } else if (n == "tool-table") {
+      if (tool_table)
+        r.fail(e, "<tool-table> given twice");
+      tool_table = e;
     } else {
       r.fail(e, "unknown element <" + n +
-                    "> in <cell> (known: base, joint, fixed, tool, conditioning)");
+                    "> in <cell> (known: base, joint, fixed, tool, conditioning, controller, "
+                    "tool-table)");
     }
   }
   if (cell.joint_count == 0)
@@ -417,6 +552,10 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
       r.fail(cond, "<conditioning> length must be > 0 mm");
     }
   }
+  if (controller)
+    cell.controller = read_controller(r, controller, cell);
+  if (tool_table)
+    cell.tools = read_tool_table(r, tool_table, true);
   finalize_cell(cell);
   return cell;
 }

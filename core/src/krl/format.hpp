@@ -23,6 +23,8 @@ enum class Ph : std::uint8_t {
   date,
   body,
   decls,
+  frames,  // a skeleton block: the base and tool statements (base_static or base_coupled, then
+           // tool_select)
   // motions
   x,
   y,
@@ -61,6 +63,16 @@ enum class Ph : std::uint8_t {
   clockwise,
   mode,
   callee,
+  // base, tools, dwell, circular motion
+  machine,    // MACHINE_DEF index of a coupled kinematic
+  base_data,  // BASE_DATA index of the base
+  ex_axes,    // number of external axes ($ACT_EX_AX)
+  tool_data,  // TOOL_DATA index of the tool
+  routine,    // the cell's tool change routine
+  seconds,    // a dwell
+  ax,         // CIRC auxiliary point (mm, in $BASE)
+  ay,
+  az,
   count_
 };
 
@@ -79,14 +91,18 @@ Ph placeholder_from_name(std::string_view name);
 // The statements a template set may hold. Each must be present (possibly empty), except that
 // the spline ones belong only to a set with <spline> and "lin" only to one without (the
 // writer would never use them: refused, so that a template edit is never silently ignored).
-enum class StatementUse { always, spline_only, no_spline_only };
+// `optional` statements (tools, base coupling, dwell, CIRC) may be left out of a set: the
+// writer refuses, naming the statement, only when a program needs one the set lacks.
+enum class StatementUse { always, spline_only, no_spline_only, optional };
 struct StatementSpec {
   std::string_view name;
   PhMask allowed;
   StatementUse use;
   bool used_by(bool spline) const {
-    return use == StatementUse::always || (use == StatementUse::spline_only) == spline;
+    return use == StatementUse::always || use == StatementUse::optional ||
+           (use == StatementUse::spline_only) == spline;
   }
+  bool required(bool spline) const { return use != StatementUse::optional && used_by(spline); }
 };
 const std::vector<StatementSpec>& statement_specs();
 const StatementSpec* find_statement(std::string_view name);

@@ -72,7 +72,7 @@ bool quiet_system_variable(const std::string& lhs) {
   static const std::set<std::string> q{
       "$ADVANCE",   "$APO",       "$VEL",       "$ACC",       "$VEL_AXIS",  "$ACC_AXIS",
       "$ORI_TYPE",  "$CIRC_TYPE", "$VEL_EXTAX", "$ACC_EXTAX", "$CIRC_MODE", "$SPL_ORI_JOINT_AUTO",
-      "$GEAR_JERK", "$JERK"};
+      "$GEAR_JERK", "$JERK",      "$ACT_EX_AX"};
   std::string head = lhs.substr(0, lhs.find_first_of(".["));
   return q.count(head) != 0;
 }
@@ -192,11 +192,14 @@ class Reader {
       assignment(file, line, lhs, trim(code.substr(eq + 1)));
       return;
     }
-    static const std::set<std::string> flow{
-        "IF",        "ELSE",     "ENDIF",  "LOOP",   "ENDLOOP", "FOR",  "ENDFOR",
-        "WHILE",     "ENDWHILE", "REPEAT", "UNTIL",  "SWITCH",  "CASE", "DEFAULT",
-        "ENDSWITCH", "GOTO",     "EXIT",   "RETURN", "HALT",    "WAIT", "TRIGGER",
-        "PULSE",     "ANIN",     "ANOUT",  "BRAKE",  "RESUME"};
+    static const std::set<std::string> flow{"IF",    "ELSE",   "ENDIF",  "LOOP",     "ENDLOOP",
+                                            "FOR",   "ENDFOR", "WHILE",  "ENDWHILE", "REPEAT",
+                                            "UNTIL", "SWITCH", "CASE",   "DEFAULT",  "ENDSWITCH",
+                                            "GOTO",  "EXIT",   "RETURN", "WAIT",     "TRIGGER",
+                                            "PULSE", "ANIN",   "ANOUT",  "BRAKE",    "RESUME"};
+    // A stop for the operator (a tool change by hand) or a dwell: the path is unchanged.
+    if (w == "HALT" || (w == "WAIT" && upper(leading_word(rest)) == "SEC"))
+      return;
     if (flow.count(w)) {
       static const std::set<std::string> closers{"ELSE",      "ENDIF",    "ENDLOOP",
                                                  "ENDFOR",    "ENDWHILE", "UNTIL",
@@ -209,6 +212,8 @@ class Reader {
       return;
     }
     if (!rest.empty() && rest[0] == '(' && code.back() == ')') {
+      if (w == "BAS")
+        bas_frame(rest);
       call(m, line, w);
       return;
     }
@@ -219,6 +224,19 @@ class Reader {
       return;
     }
     warn_once("statement:" + w, file, line, "statement " + w + " skipped");
+  }
+
+  // BAS (#BASE, n) and BAS (#TOOL, n) select a base or tool by number (KSS 5's way to a coupled
+  // base): recorded as written, blanks removed.
+  void bas_frame(const std::string& args) {
+    std::string a = upper(args);
+    a.erase(std::remove_if(a.begin(), a.end(),
+                           [](char ch) { return std::isspace(static_cast<unsigned char>(ch)); }),
+            a.end());
+    if (a.rfind("(#BASE,", 0) == 0)
+      state_.base = "BAS" + a;
+    else if (a.rfind("(#TOOL,", 0) == 0)
+      state_.tool = "BAS" + a;
   }
 
   void cl_comment(const std::string& comment) {

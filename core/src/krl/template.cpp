@@ -27,14 +27,16 @@ namespace krl {
 
 namespace {
 constexpr std::array<std::string_view, static_cast<size_t>(Ph::count_)> kPlaceholderNames = {
-    "name",   "program", "base",      "tool",  "apo_mm",    "header_comment",
-    "date",   "body",    "decls",     "x",     "y",         "z",
-    "a",      "b",       "c",         "a1",    "a2",        "a3",
-    "a4",     "a5",      "a6",        "e1",    "e2",        "e3",
-    "e4",     "e5",      "e6",        "ext",   "s",         "t",
-    "s_bits", "t_bits",  "n",         "value", "vel",       "text",
-    "line",   "number",  "tool_name", "rpm",   "direction", "clockwise",
-    "mode",   "callee"};
+    "name",      "program", "base",    "tool",      "apo_mm",    "header_comment",
+    "date",      "body",    "decls",   "frames",    "x",         "y",
+    "z",         "a",       "b",       "c",         "a1",        "a2",
+    "a3",        "a4",      "a5",      "a6",        "e1",        "e2",
+    "e3",        "e4",      "e5",      "e6",        "ext",       "s",
+    "t",         "s_bits",  "t_bits",  "n",         "value",     "vel",
+    "text",      "line",    "number",  "tool_name", "rpm",       "direction",
+    "clockwise", "mode",    "callee",  "machine",   "base_data", "ex_axes",
+    "tool_data", "routine", "seconds", "ax",        "ay",        "az"};
+static_assert(kPlaceholderNames.back() == "az", "one name per placeholder, in the enum's order");
 
 constexpr PhMask kArmAxes =
     bit(Ph::a1) | bit(Ph::a2) | bit(Ph::a3) | bit(Ph::a4) | bit(Ph::a5) | bit(Ph::a6);
@@ -46,6 +48,7 @@ constexpr PhMask kStatusTurn = bit(Ph::s) | bit(Ph::t) | bit(Ph::s_bits) | bit(P
 constexpr PhMask kSkeleton =
     bit(Ph::name) | bit(Ph::program) | bit(Ph::header_comment) | bit(Ph::date);
 constexpr PhMask kProgram = kSkeleton | bit(Ph::base) | bit(Ph::tool) | bit(Ph::apo_mm);
+constexpr PhMask kTool = bit(Ph::number) | bit(Ph::tool_name) | bit(Ph::tool) | bit(Ph::tool_data);
 
 bool is_ident_start(char ch) {
   return ch >= 'a' && ch <= 'z';
@@ -76,7 +79,14 @@ const std::vector<StatementSpec>& statement_specs() {
       {"vel", bit(Ph::vel), StatementUse::always},
       {"comment", bit(Ph::text), StatementUse::always},
       {"cl_line", bit(Ph::line), StatementUse::always},
-      {"tool_change", bit(Ph::number) | bit(Ph::tool_name), StatementUse::always},
+      {"tool_change", kTool | bit(Ph::routine), StatementUse::always},
+      {"tool_change_manual", kTool, StatementUse::optional},
+      {"tool_select", kTool, StatementUse::optional},
+      {"base_static", bit(Ph::base) | bit(Ph::base_data), StatementUse::optional},
+      {"base_coupled", bit(Ph::base) | bit(Ph::machine) | bit(Ph::ex_axes) | bit(Ph::base_data),
+       StatementUse::optional},
+      {"dwell", bit(Ph::seconds), StatementUse::optional},
+      {"circ", kCartesian | bit(Ph::ax) | bit(Ph::ay) | bit(Ph::az), StatementUse::optional},
       {"spindle_on", bit(Ph::rpm) | bit(Ph::direction) | bit(Ph::clockwise), StatementUse::always},
       {"spindle_off", 0, StatementUse::always},
       {"coolant_on", bit(Ph::mode), StatementUse::always},
@@ -101,7 +111,7 @@ const StatementSpec* find_statement(std::string_view name) {
 
 const std::vector<SkeletonSpec>& skeleton_specs() {
   static const std::vector<SkeletonSpec> specs = {
-      {"src", SkeletonKind::src, kProgram | bit(Ph::body), true},
+      {"src", SkeletonKind::src, kProgram | bit(Ph::body) | bit(Ph::frames), true},
       {"dat", SkeletonKind::dat, kSkeleton, false},
       {"main_src", SkeletonKind::main_src, kProgram | bit(Ph::body) | bit(Ph::decls), true},
       {"main_dat", SkeletonKind::main_dat, kSkeleton, false},
@@ -345,13 +355,13 @@ std::string clean_statement(std::string_view raw, int& first_line) {
   return out;
 }
 
-// {body} (and {decls}) stand alone on their line, because the writer streams the statements
-// between the part before and the part after.
+// {body} (and {decls}, {frames}) stand alone on their line, because the writer streams the
+// statements between the part before and the part after.
 void check_block_placeholders(const Reader& r, const std::string& text, int first_line,
                               const krl::SkeletonSpec& spec) {
-  int body = 0, decls = 0;
+  int body = 0, decls = 0, frames = 0;
   for (const krl::PlaceholderUse& u : krl::scan_placeholders(text)) {
-    if (u.ph != krl::Ph::body && u.ph != krl::Ph::decls)
+    if (u.ph != krl::Ph::body && u.ph != krl::Ph::decls && u.ph != krl::Ph::frames)
       continue;
     const int line = line_at(text, u.offset, first_line);
     const size_t bol =
@@ -365,8 +375,8 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
       r.fail(line, "{" + std::string(u.name) + "} must stand alone on its line in <file kind=\"" +
                        std::string(spec.kind) + "\">");
     }
-    (u.ph == krl::Ph::body ? body : decls)++;
-    if (body > 1 || decls > 1) {
+    (u.ph == krl::Ph::body ? body : u.ph == krl::Ph::decls ? decls : frames)++;
+    if (body > 1 || decls > 1 || frames > 1) {
       r.fail(line, "{" + std::string(u.name) + "} appears twice in <file kind=\"" +
                        std::string(spec.kind) + "\">");
     }
@@ -374,6 +384,46 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
   if (spec.needs_body && body == 0) {
     r.fail(first_line, "<file kind=\"" + std::string(spec.kind) +
                            "\"> needs a line {body} where the statements go");
+  }
+}
+
+// <statement name="...">: a known statement, once, with the placeholders it may use.
+void read_statement(const Reader& r, const XMLElement* e, KrlTemplateSet& set,
+                    std::map<std::string, int>& statement_line) {
+  r.only_attributes(e, {"name"});
+  const std::string name = r.required(e, "name");
+  const krl::StatementSpec* spec = krl::find_statement(name);
+  if (!spec) {
+    std::string list;
+    for (const krl::StatementSpec& s : krl::statement_specs())
+      list += (list.empty() ? "" : ", ") + std::string(s.name);
+    r.fail(e, "unknown statement \"" + name + "\" (known: " + list + ")");
+  }
+  if (statement_line.count(name))
+    r.fail(e, "<statement name=\"" + name + "\"> given twice");
+  statement_line[name] = e->GetLineNum();
+  int line = 0;
+  const std::string raw = r.text_of(e, line);
+  check_placeholders(r, raw, line, spec->allowed, "<statement name=\"" + name + "\">");
+  set.statements[name] = clean_statement(raw, line);
+}
+
+// Every statement the set needs is there, and none it would never use.
+void check_statements(const Reader& r, const XMLElement* root, const KrlTemplateSet& set,
+                      const std::map<std::string, int>& statement_line) {
+  for (const krl::StatementSpec& s : krl::statement_specs()) {
+    const auto it = statement_line.find(std::string(s.name));
+    if (!s.used_by(set.spline) && it != statement_line.end()) {
+      r.fail(it->second, "statement \"" + std::string(s.name) + "\" " +
+                             (set.spline ? "is not used by a set with <spline> (feed moves go "
+                                           "into spline blocks: spline_lin)"
+                                         : "is for spline blocks, but the set has no <spline> "
+                                           "element"));
+    }
+    if (s.required(set.spline) && it == statement_line.end()) {
+      r.fail(root, "<krl-templates> needs a <statement name=\"" + std::string(s.name) +
+                       "\"> (it may be empty to write nothing)");
+    }
   }
 }
 
@@ -397,6 +447,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
 
   const XMLElement* numbers = nullptr;
   const XMLElement* spline = nullptr;
+  const XMLElement* limits = nullptr;
   std::set<std::string> files_seen;
   std::map<std::string, int> statement_line;
 
@@ -421,6 +472,13 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       r.only_attributes(e, {"max-points"});
       set.spline = true;
       set.max_spline_points = r.integer(e, "max-points", 1, 100000);
+    } else if (n == "limits") {
+      if (limits)
+        r.fail(e, "<limits> given twice");
+      limits = e;
+      r.only_attributes(e, {"max-bytes"});
+      // At least 16 KiB: a program file's skeleton and one motion fit many times over.
+      set.max_file_bytes = r.integer(e, "max-bytes", 16 * 1024, 1 << 30);
     } else if (n == "file") {
       r.only_attributes(e, {"kind"});
       const std::string kind = r.required(e, "kind");
@@ -450,25 +508,11 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
           break;
       }
     } else if (n == "statement") {
-      r.only_attributes(e, {"name"});
-      const std::string name = r.required(e, "name");
-      const krl::StatementSpec* spec = krl::find_statement(name);
-      if (!spec) {
-        std::string list;
-        for (const krl::StatementSpec& s : krl::statement_specs())
-          list += (list.empty() ? "" : ", ") + std::string(s.name);
-        r.fail(e, "unknown statement \"" + name + "\" (known: " + list + ")");
-      }
-      if (statement_line.count(name))
-        r.fail(e, "<statement name=\"" + name + "\"> given twice");
-      statement_line[name] = e->GetLineNum();
-      int line = 0;
-      const std::string raw = r.text_of(e, line);
-      check_placeholders(r, raw, line, spec->allowed, "<statement name=\"" + name + "\">");
-      set.statements[name] = clean_statement(raw, line);
+      read_statement(r, e, set, statement_line);
     } else {
       r.fail(e, "unknown element <" + n +
-                    "> in <krl-templates> (known: description, numbers, spline, file, statement)");
+                    "> in <krl-templates> (known: description, numbers, spline, limits, file, "
+                    "statement)");
     }
   }
 
@@ -478,20 +522,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
     if (!files_seen.count(std::string(s.kind)))
       r.fail(root, "<krl-templates> needs a <file kind=\"" + std::string(s.kind) + "\">");
   }
-  for (const krl::StatementSpec& s : krl::statement_specs()) {
-    const auto it = statement_line.find(std::string(s.name));
-    if (!s.used_by(set.spline) && it != statement_line.end()) {
-      r.fail(it->second, "statement \"" + std::string(s.name) + "\" " +
-                             (set.spline ? "is not used by a set with <spline> (feed moves go "
-                                           "into spline blocks: spline_lin)"
-                                         : "is for spline blocks, but the set has no <spline> "
-                                           "element"));
-    }
-    if (s.used_by(set.spline) && it == statement_line.end()) {
-      r.fail(root, "<krl-templates> needs a <statement name=\"" + std::string(s.name) +
-                       "\"> (it may be empty to write nothing)");
-    }
-  }
+  check_statements(r, root, set, statement_line);
   return set;
 }
 

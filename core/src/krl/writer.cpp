@@ -27,6 +27,8 @@ namespace fs = std::filesystem;
 using krl::one_line;
 using krl::Stmt;
 
+constexpr long kMinFileBytes = 16 * 1024;
+
 // The program settings the writer relies on: a KRL name (short enough for its parts' names),
 // counts >= 0, a distance and one-line $BASE and $TOOL.
 void check_program_info(const KrlProgramInfo& info) {
@@ -45,6 +47,15 @@ void check_program_info(const KrlProgramInfo& info) {
   }
   if (info.motions_per_file < 0 || info.cl_line_every < 0) {
     throw Error(ErrorCode::bad_input, "motions_per_file and cl_line_every must be >= 0");
+  }
+  if (info.max_file_bytes != 0 && info.max_file_bytes < kMinFileBytes) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("a program file of at most {} bytes cannot hold a program; the byte "
+                            "limit must be at least {} (16 KiB)",
+                            info.max_file_bytes, kMinFileBytes));
+  }
+  if (info.machine_def < 1 || info.ex_axes < 0) {
+    throw Error(ErrorCode::bad_input, "MACHINE_DEF index must be >= 1 and ex_axes >= 0");
   }
   if (!std::isfinite(info.apo_mm) || info.apo_mm < 0.0) {
     throw Error(ErrorCode::bad_input, "$APO.CDIS must be a finite distance >= 0 mm");
@@ -65,6 +76,27 @@ std::string utc_date_now() {
   gmtime_r(&now, &utc);
   return fmt::format("{:04}-{:02}-{:02} {:02}:{:02}:{:02} UTC", utc.tm_year + 1900, utc.tm_mon + 1,
                      utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec);
+}
+
+// A set must be able to write what the cell needs: a coupled base only through {frames} and
+// base_coupled (a static $BASE would put every cut turned by the table), $TOOL through
+// tool_select wherever {frames} stands.
+void check_frames(const KrlTemplateSet& t, const krl::CompiledTemplates& tpl,
+                  const KrlProgramInfo& info, bool has_frames) {
+  const auto refuse = [&](const std::string& why) {
+    throw Error(ErrorCode::bad_input, "template set '" + t.name + "': " + why,
+                SourceLocation{t.source_file, 0, 0});
+  };
+  if (info.base_coupled && (!has_frames || !tpl.has(Stmt::base_coupled))) {
+    refuse(
+        "the cell's table is a mathematically coupled kinematic, so $BASE must turn with it, "
+        "but the set has no {frames} line in its src file with a base_coupled statement "
+        "(docs/krl-templates.md, \"Base and tool\")");
+  }
+  if (has_frames && !info.base_coupled && !tpl.has(Stmt::base_static))
+    refuse("the src file has a {frames} line but the set has no base_static statement");
+  if (has_frames && !tpl.has(Stmt::tool_select))
+    refuse("the src file has a {frames} line but the set has no tool_select statement");
 }
 
 void check_output_dir(const std::string& output_dir) {
@@ -129,7 +161,8 @@ void KrlWriter::Impl::flush_velocity() {
 
 // A part starts where the previous one ended, in the same state, so it can run alone.
 void KrlWriter::Impl::restate() {
-  put(src_out, out_index, tool_state);
+  if (!src_has_frames)  // {frames} in the part's header has set $TOOL already
+    put(src_out, out_index, tool_state);
   put(src_out, out_index, spindle_state);
   put(src_out, out_index, coolant_state);
   ptp_axes(last_axes);
@@ -142,6 +175,12 @@ KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info
   check_program_info(info);
   // The set may have been built by hand rather than loaded: check it as the loader does.
   w.tpl = krl::compile_templates(templates);
+  for (const krl::SkeletonLine& l : w.tpl.src)
+    w.src_has_frames = w.src_has_frames || l.block == krl::Ph::frames;
+  check_frames(templates, w.tpl, info, w.src_has_frames);
+  w.budget = info.max_file_bytes > 0        ? info.max_file_bytes
+             : templates.max_file_bytes > 0 ? templates.max_file_bytes
+                                            : kDefaultMaxFileBytes;
   if (w.tpl.wants_date) {
     // Only on request: a date makes the output differ from run to run.
     w.date = utc_date_now();
@@ -189,6 +228,9 @@ void KrlWriter::motion(const KrlMotion& m) {
     w.close_module();
     w.next_part();
     w.restate();
+  } else {
+    // A motion with what may come with it: a CL line comment, $VEL.CP, a spline block's ends.
+    w.ensure_room(1024);
   }
   if (w.info.cl_line_every > 0 && m.cl_line > 0 && w.motion_count % w.info.cl_line_every == 0) {
     Impl::Values v;
@@ -245,15 +287,86 @@ void KrlWriter::velocity(double vel_m_per_s) {
   impl_->vel_requested = vel_m_per_s;
 }
 
-void KrlWriter::tool_change(int number, const std::string& name) {
+void KrlWriter::tool_change(const KrlToolChange& change) {
   Impl& w = *impl_;
+  const std::string clean = one_line(change.name);
+  const std::string tool = one_line(change.tool);
+  if (tool.empty())
+    throw Error(ErrorCode::bad_input, "a tool change needs the right-hand side of $TOOL");
+  const bool manual = w.info.tool_change_routine.empty();
+  if (manual && !w.tpl.has(Stmt::tool_change_manual) && w.tpl.has(Stmt::tool_select)) {
+    throw Error(ErrorCode::bad_input,
+                "template set '" + w.t.name +
+                    "' has no tool_change_manual statement, and the cell names no tool change "
+                    "routine (<controller tool-change-routine=...>)",
+                SourceLocation{w.t.source_file, 0, 0});
+  }
+  w.ensure_room(static_cast<long>(clean.size() + 512));
   w.end_spline();
   Impl::Values v;
-  v.integer = number;
-  const std::string clean = one_line(name);
+  v.integer = change.number;
   v.tool_name = clean;
-  w.tool_state = w.render(Stmt::tool_change, v);
-  w.put(w.src_out, w.out_index, w.tool_state);
+  v.tool = tool;
+  v.tool_data = change.tool_data;
+  v.routine = w.info.tool_change_routine;
+  // Sets without the newer statements: tool_change alone, as before them.
+  const Stmt how =
+      manual && w.tpl.has(Stmt::tool_change_manual) ? Stmt::tool_change_manual : Stmt::tool_change;
+  w.put(w.src_out, w.out_index, w.render(how, v));
+  w.current_tool = tool;
+  if (w.tpl.has(Stmt::tool_select)) {
+    w.tool_state = w.render(Stmt::tool_select, v);
+    w.put(w.src_out, w.out_index, w.tool_state);
+  } else {
+    w.tool_state = w.render(Stmt::tool_change, v);
+  }
+}
+
+void KrlWriter::dwell(double seconds) {
+  Impl& w = *impl_;
+  if (!std::isfinite(seconds) || seconds < 0.0) {
+    throw Error(ErrorCode::bad_input, fmt::format("program '{}': a dwell of {} s; it must be >= 0",
+                                                  w.info.name, seconds));
+  }
+  if (!w.tpl.has(Stmt::dwell)) {
+    throw Error(ErrorCode::bad_input,
+                "template set '" + w.t.name +
+                    "' has no dwell statement, but the program asks for a dwell (a drilling "
+                    "cycle's DWELL)",
+                SourceLocation{w.t.source_file, 0, 0});
+  }
+  w.ensure_room(256);
+  w.end_spline();
+  Impl::Values v;
+  v.number_value = seconds;
+  w.put(Stmt::dwell, v);
+}
+
+bool KrlWriter::has_circ() const {
+  return impl_->tpl.has(Stmt::circ) && !impl_->t.spline;
+}
+
+void KrlWriter::circ(const KrlMotion& aux, const KrlMotion& end) {
+  Impl& w = *impl_;
+  if (!has_circ())
+    throw Error(ErrorCode::internal, "KRL writer: circ() with a set that has no circ statement");
+  if (!w.have_last)
+    throw Error(ErrorCode::internal, "KRL writer: a CIRC cannot be the first motion");
+  w.ensure_room(2048);
+  if (w.info.cl_line_every > 0 && end.cl_line > 0 && w.motion_count % w.info.cl_line_every == 0) {
+    Impl::Values c;
+    c.integer = end.cl_line;
+    w.put(Stmt::cl_line, c);
+  }
+  w.flush_velocity();
+  Impl::Values v = w.pose_values(end);
+  const Eigen::Vector3d p = aux.T_base_tcp.translation();
+  for (int i = 0; i < 3; ++i)
+    v.aux[i] = p[i];
+  w.put(Stmt::circ, v);
+  w.last_axes = end.axes;
+  ++w.motion_count;
+  ++w.motions_in_module;
 }
 
 void KrlWriter::spindle(double rpm, bool clockwise) {
@@ -263,6 +376,7 @@ void KrlWriter::spindle(double rpm, bool clockwise) {
                 fmt::format("program '{}': spindle speed {} rpm; it must be >= 0 (0: off)",
                             w.info.name, rpm));
   }
+  w.ensure_room(512);
   w.end_spline();
   Impl::Values v;
   if (rpm == 0.0) {
@@ -279,6 +393,7 @@ void KrlWriter::spindle(double rpm, bool clockwise) {
 
 void KrlWriter::coolant(bool on, const std::string& mode) {
   Impl& w = *impl_;
+  w.ensure_room(static_cast<long>(mode.size() + 512));
   w.end_spline();
   Impl::Values v;
   const std::string clean = one_line(mode);
@@ -292,6 +407,7 @@ void KrlWriter::comment(const std::string& text) {
   Impl& w = *impl_;
   Impl::Values v;
   const std::string clean = one_line(text);
+  w.ensure_room(static_cast<long>(clean.size() + 256));
   v.text = clean;
   w.put(Stmt::comment, v);  // a comment may stand inside a spline block
 }
@@ -302,6 +418,7 @@ void KrlWriter::literal(const std::string& text) {
     throw Error(ErrorCode::bad_input,
                 "program '" + w.info.name + "': a literal KRL statement must be one line");
   }
+  w.ensure_room(static_cast<long>(text.size() + 256));
   w.end_spline();
   Impl::Values v;
   v.text = text;

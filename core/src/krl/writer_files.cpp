@@ -43,18 +43,36 @@ void KrlWriter::Impl::put(std::FILE* f, size_t file_index, std::string_view text
     throw Error(ErrorCode::internal,
                 "KRL writer: no file open (an earlier error or finish() ended this program)");
   }
+  // Every line ends without trailing blanks (an empty {tool_name} must not leave one).
   converted.clear();
+  const auto end_line = [&] {
+    while (!converted.empty() && (converted.back() == ' ' || converted.back() == '\t'))
+      converted.pop_back();
+    converted += krl::kEol;
+  };
   for (char ch : text) {
     if (ch == '\n')
-      converted += krl::kEol;
+      end_line();
     else
       converted += ch;
   }
-  converted += krl::kEol;
+  end_line();
   if (std::fwrite(converted.data(), 1, converted.size(), f) != converted.size()) {
     throw Error(ErrorCode::io, write_failure_text(),
                 SourceLocation{files[file_index].final_path, 0, 0});
   }
+  if (f == src_out)
+    module_bytes += static_cast<long>(converted.size());
+}
+
+// The bytes `text` takes in a file: every line with its CRLF.
+long KrlWriter::Impl::count_bytes(std::string_view text) const {
+  if (text.empty())
+    return 0;
+  long n = static_cast<long>(text.size()) + static_cast<long>(krl::kEol.size());
+  for (char ch : text)
+    n += ch == '\n' ? static_cast<long>(krl::kEol.size()) - 1 : 0;
+  return n;
 }
 
 size_t KrlWriter::Impl::create(const std::string& file_name, std::FILE*& f) {
@@ -102,6 +120,10 @@ size_t KrlWriter::Impl::put_skeleton(std::FILE* f, size_t file_index, const krl:
       block(Ph::decls);
       continue;
     }
+    if (sk[i].block == Ph::frames) {
+      put(f, file_index, frames_text(header_tool));
+      continue;
+    }
     current = file_kind;
     line.clear();
     render_into(line, sk[i].text, Values{});
@@ -112,8 +134,20 @@ size_t KrlWriter::Impl::put_skeleton(std::FILE* f, size_t file_index, const krl:
       throw Error(ErrorCode::io, write_failure_text(),
                   SourceLocation{files[file_index].final_path, 0, 0});
     }
+    if (f == src_out)
+      module_bytes += static_cast<long>(converted.size());
   }
   return sk.size();
+}
+
+std::string KrlWriter::Impl::frames_text(std::string_view tool) {
+  Values v;
+  std::string out = render(info.base_coupled ? Stmt::base_coupled : Stmt::base_static, v);
+  v.tool = tool;
+  const std::string select = render(Stmt::tool_select, v);
+  if (!out.empty() && !select.empty())
+    out += '\n';
+  return out + select;
 }
 
 // --- modules ---------------------------------------------------------------------------------
@@ -143,8 +177,23 @@ size_t KrlWriter::Impl::body_line(const krl::Skeleton& sk) const {
 void KrlWriter::Impl::open_module(const std::string& name) {
   write_dat(name, tpl.dat, "file dat");
   module = name;
+  header_tool = current_tool;
   out_index = create(name + ".src", src_out);
+  module_bytes = 0;
   put_skeleton(src_out, out_index, tpl.src, 0, "file src", [](Ph) {});
+  header_bytes = module_bytes;
+  // What close_module() will add: the skeleton after {body} (it names only this module).
+  footer_bytes = 0;
+  for (size_t i = body_line(tpl.src) + 1; i < tpl.src.size(); ++i) {
+    line.clear();
+    if (tpl.src[i].block == Ph::frames) {
+      line = frames_text(header_tool);
+    } else {
+      current = "file src";
+      render_into(line, tpl.src[i].text, Values{});
+    }
+    footer_bytes += static_cast<long>(line.size() + krl::kEol.size());
+  }
   motions_in_module = 0;
 }
 
@@ -157,12 +206,79 @@ void KrlWriter::Impl::close_module() {
 void KrlWriter::Impl::next_part() {
   if (static_cast<int>(parts.size()) == krl::kMaxParts) {
     throw Error(ErrorCode::bad_input,
-                fmt::format("program '{}' needs more than {} parts of {} motions; raise "
-                            "motions_per_file",
-                            info.name, krl::kMaxParts, info.motions_per_file));
+                fmt::format("program '{}' needs more than {} parts ({} motions or {} bytes "
+                            "each); raise motions_per_file or max_file_bytes",
+                            info.name, krl::kMaxParts, info.motions_per_file, budget));
   }
   parts.push_back(fmt::format("{}{}{:03}", info.name, krl::kPartInfix, parts.size() + 1));
   open_module(parts.back());
+}
+
+// A part ends before `needed` more bytes would take its .src beyond the budget. The slack covers
+// the restated state and a spline block's end, written after the check.
+void KrlWriter::Impl::ensure_room(long needed) {
+  constexpr long kSlack = 512;
+  if (budget <= 0 || !have_last)
+    return;
+  if (module_bytes + needed + footer_bytes + kSlack <= budget)
+    return;
+  if (parts.empty())
+    promote_first_module();
+  close_module();
+  next_part();
+  restate();
+}
+
+// The program outgrew one file: what was written as NAME becomes its first part, NAME_P001.
+// The statements after the header are copied into a file with the part's header (at most one
+// budget of bytes, once); the main program is written at finish() as with motions_per_file.
+void KrlWriter::Impl::promote_first_module() {
+  if (info.name.size() + krl::kPartSuffixLength > krl::kMaxIdentifierLength) {
+    throw Error(
+        ErrorCode::bad_input,
+        fmt::format("program '{}' is larger than {} bytes and must be split, but its name has {} "
+                    "characters: its parts would be named {}{}001, longer than a KRL name's {}; "
+                    "use a name of at most {} characters, or raise the byte limit",
+                    info.name, budget, info.name.size(), info.name, krl::kPartInfix,
+                    krl::kMaxIdentifierLength, krl::kMaxIdentifierLength - krl::kPartSuffixLength));
+  }
+  if (std::fflush(src_out) != 0) {
+    throw Error(ErrorCode::io, write_failure_text(),
+                SourceLocation{files[out_index].final_path, 0, 0});
+  }
+  std::fclose(src_out);
+  src_out = nullptr;
+  const File old_src = files[out_index];
+  const File old_dat = files[out_index - 1];
+  files.erase(files.begin() + static_cast<long>(out_index) - 1, files.end());
+  std::remove(old_dat.temp.c_str());
+
+  const long first_header = header_bytes;
+  const std::string tool_now = current_tool;
+  current_tool = header_tool;  // the part's header sets the tool the program started with
+  parts.push_back(fmt::format("{}{}{:03}", info.name, krl::kPartInfix, 1));
+  open_module(parts.back());
+  current_tool = tool_now;
+
+  std::FILE* in = std::fopen(old_src.temp.c_str(), "rb");
+  bool ok = in && std::fseek(in, first_header, SEEK_SET) == 0;
+  char buffer[1 << 16];
+  while (ok) {
+    const size_t n = std::fread(buffer, 1, sizeof buffer, in);
+    if (n == 0) {
+      ok = !std::ferror(in);
+      break;
+    }
+    ok = std::fwrite(buffer, 1, n, src_out) == n;
+    module_bytes += static_cast<long>(n);
+  }
+  if (in)
+    std::fclose(in);
+  std::remove(old_src.temp.c_str());
+  if (!ok) {
+    throw Error(ErrorCode::io, write_failure_text(),
+                SourceLocation{files[out_index].final_path, 0, 0});
+  }
 }
 
 // The main program of a split program: calls the parts in order.

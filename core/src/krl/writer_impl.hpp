@@ -53,6 +53,14 @@ struct KrlWriter::Impl {
   std::string module;            // its name
   std::vector<std::string> parts;
 
+  // The byte budget of a .src (docs/krl-templates.md, "Splitting"): the bytes written to the
+  // current .src, those of its skeleton after {body}, and, for the first module, those before
+  // it (a program that turns out too big becomes NAME_P001, whose header differs).
+  long budget = 0;
+  long module_bytes = 0;
+  long header_bytes = 0;
+  long footer_bytes = 0;
+
   long motion_count = 0;  // all motions so far
   int motions_in_module = 0;
   bool in_spline = false;
@@ -62,8 +70,11 @@ struct KrlWriter::Impl {
   bool have_last = false;
   AxisValues last_axes;
   int ext_mask = -1;  // external axes (bit n-1 for En) of the first motion
+  // The tool: $TOOL's right-hand side now, and as the current module's header set it.
+  std::string current_tool, header_tool;
   // What a part restates so that it runs alone with the right tool, spindle and coolant.
   std::string tool_state, spindle_state, coolant_state;
+  bool src_has_frames = false;  // the src skeleton sets $BASE and $TOOL with {frames}
   bool finished = false;
 
   // Rendering context: the values of a statement's placeholders (the program's and the
@@ -73,16 +84,18 @@ struct KrlWriter::Impl {
     double xyz[3] = {0, 0, 0};
     KukaAbc abc;
     StatusTurn st;
-    double number_value = 0.0;  // vel, rpm, or an external axis value
+    double number_value = 0.0;  // vel, rpm, seconds, or an external axis value
     long integer = 0;           // cl line, tool number, axis number
-    std::string_view text, tool_name, direction, clockwise, mode, callee;
+    long tool_data = 0;
+    double aux[3] = {0, 0, 0};  // CIRC auxiliary point
+    std::string_view text, tool_name, direction, clockwise, mode, callee, tool, routine;
   };
   std::string_view current;  // the statement or file being rendered, for messages
   std::string line;          // reused buffer
   std::string converted;
 
   Impl(const KrlTemplateSet& templates, const KrlProgramInfo& program)
-      : t(templates), info(program) {}
+      : t(templates), info(program), current_tool(program.tool), header_tool(program.tool) {}
 
   // --- rendering (writer_render.cpp) ---------------------------------------------------------
   std::string context() const;
@@ -112,6 +125,12 @@ struct KrlWriter::Impl {
   void open_module(const std::string& name);
   void close_module();
   void next_part();
+  // $BASE and $TOOL for a {frames} line: base_static or base_coupled, then tool_select.
+  std::string frames_text(std::string_view tool);
+  long count_bytes(std::string_view text) const;
+  // Starts a new part first if `needed` more bytes would not fit the current .src's budget.
+  void ensure_room(long needed);
+  void promote_first_module();
   void write_main_program();
   void rename_files();
 

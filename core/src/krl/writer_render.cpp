@@ -99,12 +99,27 @@ void KrlWriter::Impl::value(std::string& out, Ph ph, const Values& v) {
     case Ph::clockwise:
     case Ph::mode:
     case Ph::callee:
+    case Ph::tool_data:
+    case Ph::routine:
+    case Ph::seconds:
+    case Ph::ax:
+    case Ph::ay:
+    case Ph::az:
       statement_value(out, ph, v);
+      break;
+    case Ph::tool:
+      // A tool statement names its tool; a skeleton line the one its module's header sets.
+      if (!v.tool.empty())
+        out += v.tool;
+      else
+        program_value(out, ph);
       break;
     case Ph::name:
     case Ph::program:
     case Ph::base:
-    case Ph::tool:
+    case Ph::machine:
+    case Ph::base_data:
+    case Ph::ex_axes:
     case Ph::apo_mm:
     case Ph::header_comment:
     case Ph::date:
@@ -112,6 +127,7 @@ void KrlWriter::Impl::value(std::string& out, Ph ph, const Values& v) {
       break;
     case Ph::body:
     case Ph::decls:
+    case Ph::frames:
     case Ph::count_:
       throw Error(ErrorCode::internal, context() + ": misplaced block placeholder");
   }
@@ -219,6 +235,22 @@ void KrlWriter::Impl::statement_value(std::string& out, Ph ph, const Values& v) 
     case Ph::callee:
       out += v.callee;
       break;
+    case Ph::tool_data:
+      fmt::format_to(std::back_inserter(out), "{}", v.tool_data);
+      break;
+    case Ph::routine:
+      out += v.routine;
+      break;
+    case Ph::seconds:
+      // Dwell times to the millisecond (the controller's clock is finer; CAM writes less).
+      number(out, v.number_value, 3, "the dwell time");
+      break;
+    case Ph::ax:
+    case Ph::ay:
+    case Ph::az:
+      number(out, v.aux[static_cast<int>(ph) - static_cast<int>(Ph::ax)], t.position_decimals,
+             "the auxiliary point of a CIRC");
+      break;
     default:
       break;
   }
@@ -237,7 +269,16 @@ void KrlWriter::Impl::program_value(std::string& out, Ph ph) {
       out += info.base;
       break;
     case Ph::tool:
-      out += info.tool;
+      out += header_tool;
+      break;
+    case Ph::machine:
+      fmt::format_to(std::back_inserter(out), "{}", info.machine_def);
+      break;
+    case Ph::ex_axes:
+      fmt::format_to(std::back_inserter(out), "{}", info.ex_axes);
+      break;
+    case Ph::base_data:
+      fmt::format_to(std::back_inserter(out), "{}", info.base_data);
       break;
     case Ph::apo_mm:
       number(out, info.apo_mm, t.position_decimals, "$APO.CDIS");

@@ -30,7 +30,7 @@ void compile_statements(const KrlTemplateSet& templates, CompiledTemplates& out)
     const StatementSpec* spec = find_statement(kStmtNames[i]);
     const auto it = templates.statements.find(std::string(kStmtNames[i]));
     if (it == templates.statements.end()) {
-      if (!spec->used_by(templates.spline))
+      if (!spec->required(templates.spline))
         continue;
       throw Error(
           ErrorCode::bad_input,
@@ -40,6 +40,7 @@ void compile_statements(const KrlTemplateSet& templates, CompiledTemplates& out)
     check_placeholders(templates, it->second, spec->allowed,
                        "statement '" + std::string(kStmtNames[i]) + "'");
     out.stmt[i] = compile(it->second);
+    out.present[i] = true;
   }
 }
 
@@ -50,11 +51,12 @@ SkeletonLine compile_skeleton_line(const KrlTemplateSet& templates, std::string_
   SkeletonLine sl;
   const size_t b = l.find_first_not_of(" \t"), e = l.find_last_not_of(" \t");
   const std::string_view core = b == l.npos ? l : l.substr(b, e - b + 1);
-  if (core == "{body}" || core == "{decls}") {
-    sl.block = core == "{body}" ? Ph::body : Ph::decls;
+  if (core == "{body}" || core == "{decls}" || core == "{frames}") {
+    sl.block = core == "{body}" ? Ph::body : core == "{decls}" ? Ph::decls : Ph::frames;
   } else {
-    // {body} and {decls} elsewhere than alone on their line are refused here too.
-    check_placeholders(templates, l, spec.allowed & ~(bit(Ph::body) | bit(Ph::decls)),
+    // Block placeholders elsewhere than alone on their line are refused here too.
+    check_placeholders(templates, l,
+                       spec.allowed & ~(bit(Ph::body) | bit(Ph::decls) | bit(Ph::frames)),
                        "file '" + std::string(kind) + "'");
     sl.text = compile(l);
     wants_date = wants_date || (sl.text.used & bit(Ph::date));

@@ -262,27 +262,50 @@ TEST_CASE("cl_reader: $$ comments are kept on request; PPRINT always gives a com
 }
 
 TEST_CASE("cl_reader: PARTNO, INSERT, PPRINT, END and FINI") {
-  const auto events = read_all(
-                          "PARTNO/ Bracket 7 \n"
-                          "INSERT/[HOLDER=C40] Lin_Rel {X 5} $VEL.CP=0.2  \n"
-                          "PPRINT  old style, no slash\n"
-                          "PARTNO OLD STYLE\n"
-                          "END\n"
-                          "FINI\n")
-                          .events;
-  REQUIRE(events.size() == 6);
+  const auto r = read_all(
+      "PARTNO/ Bracket 7 \n"
+      "INSERT/[HOLDER=C40] Lin_Rel {X 5} $VEL.CP=0.2  \n"
+      "PPRINT  old style, no slash\n"
+      "PARTNO OLD STYLE\n"
+      "INSERT/krl:  $OUT[17] = TRUE \n"
+      "END\n"
+      "FINI\n");
+  const auto& events = r.events;
+  REQUIRE(events.size() == 7);
   CHECK(events[0].kind == ClEventKind::part_name);
   CHECK(events[0].text == "Bracket 7");
-  CHECK(events[1].kind == ClEventKind::literal);
+  // Operator text is never code: a comment, with a warning naming its line.
+  CHECK(events[1].kind == ClEventKind::comment);
   CHECK(events[1].text == "[HOLDER=C40] Lin_Rel {X 5} $VEL.CP=0.2");  // case kept
   CHECK(events[1].line == 2);
   CHECK(events[2].kind == ClEventKind::comment);
   CHECK(events[2].text == "old style, no slash");
   CHECK(events[3].kind == ClEventKind::part_name);
   CHECK(events[3].text == "OLD STYLE");
-  CHECK(events[4].kind == ClEventKind::end_of_program);
+  // The explicit pass-through form gives the statement after "KRL:" (any case).
+  CHECK(events[4].kind == ClEventKind::literal);
+  CHECK(events[4].text == "$OUT[17] = TRUE");
+  CHECK(events[4].line == 5);
   CHECK(events[5].kind == ClEventKind::end_of_program);
-  CHECK(events[5].line == 6);
+  CHECK(events[6].kind == ClEventKind::end_of_program);
+  CHECK(events[6].line == 7);
+  REQUIRE(r.warnings.size() == 2);
+  CHECK(r.warnings[0].find("t.apt:2: INSERT/ text written as a comment") == 0);
+  CHECK(r.warnings[0].find("INSERT/KRL:") != std::string::npos);
+  CHECK(r.warnings[1].find("t.apt:3: PPRINT/ text written as a comment") == 0);
+
+  check_error("INSERT/KRL:   \n", 1, 1, "needs a KRL statement");
+}
+
+TEST_CASE("cl_reader: operator-text warnings are capped, each names its line") {
+  std::string text;
+  for (int i = 0; i < 30; ++i)
+    text += "INSERT/note " + std::to_string(i) + "\n";
+  const auto r = read_all(text);
+  CHECK(of_kind(r.events, ClEventKind::comment).size() == 30);
+  REQUIRE(r.warnings.size() == 21);
+  CHECK(r.warnings[19].find("t.apt:20: INSERT/") == 0);
+  CHECK(r.warnings[20].find("t.apt:21: more INSERT/PPRINT text") == 0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -508,14 +531,63 @@ TEST_CASE("cl_reader: MSYS, PAINT, CSYS, TRNTYP and CUTCOM are read and give no 
       "GOTO/1,2,3\n"
       "CUTCOM/OFF\n"
       "CUTCOM/RIGHT\n");
-  REQUIRE(r.events.size() == 1);
-  CHECK(r.events[0].kind == ClEventKind::move);
+  REQUIRE(r.events.size() == 2);
+  // MSYS gives its frame (for messages) and, by default, leaves the data in the MCS.
+  CHECK(r.events[0].kind == ClEventKind::machine_frame);
+  CHECK(r.events[0].line == 2);
+  CHECK_FALSE(r.events[0].flag);
+  CHECK(r.events[0].p_mm.isApprox(Eigen::Vector3d(393, -297.5, 3)));
+  CHECK(r.events[0].tool_axis.isApprox(Eigen::Vector3d(0, 0, -1)));  // X = y, Y = x: z down
+  CHECK(r.events[1].kind == ClEventKind::move);
+  CHECK(r.events[1].p_mm.isApprox(Eigen::Vector3d(1, 2, 3)));
   REQUIRE(r.warnings.size() == 1);  // once per file
   CHECK(r.warnings[0].find("t.apt:6: CUTCOM/LEFT ignored") == 0);
 
   check_error("CSYS/1,0,0,5,0,1,0,0,0,0,1,0\n", 1, 1, "identity");
   check_error("TRNTYP/WORLD,0,0,10\n", 1, 1, "TRNTYP/WORLD,0,0,0");
   check_error("MSYS/0,0,0,1,0,0,1,0,0\n", 1, 12, "orthogonal");
+  // With the MCS as the workpiece frame, a second, different MCS cannot be placed: refused.
+  check_error("MSYS/0,0,0,1,0,0,0,1,0\nGOTO/1,2,3\nMSYS/0,0,5,1,0,0,0,1,0\n", 3, 1,
+              "differs from the one at line 1");
+}
+
+TEST_CASE("cl_reader: --msys apply turns points, tool axes and circles into NX's absolute frame") {
+  // A z-down MCS as in NX 5-axis samples: X_mcs = (0,1,0), Y_mcs = (1,0,0), origin (10,20,30).
+  const std::string text =
+      "TOOL PATH/OP1,TOOL,T1\n"
+      "MSYS/10,20,30,0,1,0,1,0,0\n"
+      "GOTO/1,2,3,0,0,-1\n"
+      "GODLTA/0,0,-2\n"
+      "CIRCLE/1,4,1,0,0,1,2,0.01,0.5,10,0\n"
+      "GOTO/3,4,1\n";
+  ClReaderOptions apply;
+  apply.msys = MsysMode::apply;
+  apply.chordal_tolerance_mm = 0.001;
+  const auto r = read_all(text, apply);
+  const auto moves = of_kind(r.events, ClEventKind::move);
+  REQUIRE(moves.size() >= 3);
+  // p_abs = o + R p with R = [X Y Z], Z = X x Y = (0,0,-1).
+  CHECK(moves[0].p_mm.isApprox(Eigen::Vector3d(10 + 2, 20 + 1, 30 - 3)));
+  CHECK(moves[0].tool_axis.isApprox(Eigen::Vector3d(0, 0, 1)));  // the tool points up now
+  CHECK(moves[1].p_mm.isApprox(Eigen::Vector3d(12, 21, 29)));    // the delta turned too
+  // The arc from MCS (1,2,1) to (3,4,1) about the centre (1,4,1): every chord point is 2 from
+  // the centre, turned into the absolute frame (14, 21, 29).
+  const Eigen::Vector3d centre_abs(10 + 4, 20 + 1, 30 - 1);
+  for (std::size_t i = 2; i < moves.size(); ++i) {
+    CHECK(std::fabs((moves[i].p_mm - centre_abs).norm() - 2.0) < 1e-3);
+    CHECK(std::fabs(moves[i].p_mm.z() - 29.0) < 1e-9);
+  }
+  CHECK(moves.back().p_mm.isApprox(Eigen::Vector3d(14, 23, 29)));
+  const auto frames = of_kind(r.events, ClEventKind::machine_frame);
+  REQUIRE(frames.size() == 1);
+  CHECK(frames[0].flag);
+
+  // Under apply, each operation may have its own MCS.
+  ClReaderOptions apply2 = apply;
+  CHECK_NOTHROW(
+      read_all("MSYS/0,0,0,1,0,0,0,1,0\nGOTO/1,2,3\nMSYS/0,0,5,1,0,0,0,1,0\n"
+               "GOTO/1,2,3\n",
+               apply2));
 }
 
 TEST_CASE("cl_reader: unknown words give one event and one warning per word") {
@@ -845,6 +917,45 @@ TEST_CASE("cl_reader: a drill cycle expands to rapid, feed to depth, rapid out")
   CHECK((!steps[5].is_move && steps[5].z_or_feed == 500));  // right after it
 }
 
+TEST_CASE("cl_reader: a cycle's moves carry its clearance plane; DWELL gives a dwell") {
+  const auto events = read_all(
+                          "FEDRAT/500,MMPM\n"
+                          "CYCLE/DRILL,FEDTO,7.5,MMPM,300,RAPTO,3.,RTRCTO,25.,DWELL,1.5\n"
+                          "GOTO/8.,15.,0\n"
+                          "GOTO/27.,15.,2\n"
+                          "CYCLE/OFF\n"
+                          "GOTO/27,15,50\n")
+                          .events;
+  const auto moves = of_kind(events, ClEventKind::move);
+  for (const ClEvent& m : moves) {
+    INFO("move at " << m.p_mm.transpose());
+    if (m.origin == MoveOrigin::cycle) {
+      REQUIRE(m.has_clearance);
+      // RAPTO above the hole's point, along the tool axis.
+      const double hole_z = m.p_mm.x() < 20 ? 0.0 : 2.0;
+      CHECK(m.clearance_p_mm == Vector3d(m.p_mm.x(), 15, hole_z + 3));
+    } else {
+      CHECK_FALSE(m.has_clearance);
+    }
+  }
+  // One dwell per hole, at its bottom: right after the cut, before the retract.
+  std::vector<std::size_t> dwell_at;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    if (events[i].kind == ClEventKind::dwell) {
+      CHECK(events[i].value == 1.5);
+      dwell_at.push_back(i);
+    }
+  }
+  REQUIRE(dwell_at.size() == 2);
+  for (std::size_t i : dwell_at) {
+    REQUIRE(i > 0);
+    CHECK(events[i - 1].kind == ClEventKind::move);
+    CHECK_FALSE(events[i - 1].rapid);  // the cut
+  }
+  check_error("CYCLE/DRILL,FEDTO,5,RAPTO,2,MMPM,100,DWELL,-1\n", 1, 44, "DWELL must be 0 to 600");
+  check_error("CYCLE/DRILL,FEDTO,5,RAPTO,2,MMPM,100,DWELL,2000\n", 1, 44, "DWELL must be 0");
+}
+
 TEST_CASE("cl_reader: a DEEP cycle pecks with full retracts") {
   // SolidWorks CAM: first peck 5, then 2 more each, to 42.01108: 1 + ceil(37.01108 / 2) = 20.
   const auto events = read_all(
@@ -918,6 +1029,10 @@ TEST_CASE("cl_reader: cycles that cannot be expanded safely are refused") {
   check_error(
       "CYCLE/DRILL,FEDTO,5,RAPTO,2,MMPM,100\nGOTO/0,0,0\nLOAD/TOOL,2\nRAPID/\nGOTO/0,0,100\n", 5, 1,
       "cannot tell whether this GOTO is a hole");
+  // ... and the advice is the safe one: end the cycle at its last hole, not just CYCLE/OFF.
+  check_error(
+      "CYCLE/DRILL,FEDTO,5,RAPTO,2,MMPM,100\nGOTO/0,0,0\nLOAD/TOOL,2\nRAPID/\nGOTO/0,0,100\n", 5, 1,
+      "Do not only insert CYCLE/OFF before the tool change");
   CHECK(moves_of("CYCLE/DRILL,FEDTO,5,RAPTO,2,MMPM,100\nGOTO/0,0,0\nCYCLE/OFF\nLOAD/TOOL,2\n"
                  "GOTO/0,0,100\n")
             .back()

@@ -564,9 +564,9 @@ TEST_CASE("cell_xml: an unsupported format is refused") {
 
 TEST_CASE("cell_xml: unknown elements are refused") {
   SECTION("in <cell>") {
-    expect_bad(
-        with_extra(R"(<joints/>)"), "<joints/>",
-        "unknown element <joints> in <cell> (known: base, joint, fixed, tool, conditioning)");
+    expect_bad(with_extra(R"(<joints/>)"), "<joints/>",
+               "unknown element <joints> in <cell> (known: base, joint, fixed, tool, conditioning, "
+               "controller, tool-table)");
   }
   SECTION("in <joint>") {
     const std::string e = R"(<limit min="-1" max="1"/>)";

@@ -270,8 +270,8 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
     expect_error(bad, line_of(bad, "S {s}"), "{s}");
   }
   SECTION("unknown placeholder deep in a skeleton") {
-    const std::string bad = replaced(good, "$TOOL = {tool}", "$TOOL = {tol}");
-    expect_error(bad, line_of(bad, "{tol}"), "{tol}");
+    const std::string bad = replaced(good, "$APO.CDIS = {apo_mm}", "$APO.CDIS = {apo}");
+    expect_error(bad, line_of(bad, "{apo}"), "{apo}");
   }
   SECTION("{body} not alone on its line") {
     const std::string bad = replaced(good, "\n{body}\n", "\nX {body}\n");
@@ -280,8 +280,8 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
   SECTION("unknown statement") {
     const std::string bad =
         replaced(good, "  <statement name=\"vel\">",
-                 "  <statement name=\"circ\">CIRC {x}</statement>\n  <statement name=\"vel\">");
-    expect_error(bad, line_of(bad, "name=\"circ\""), "circ");
+                 "  <statement name=\"arc\">CIRC {x}</statement>\n  <statement name=\"vel\">");
+    expect_error(bad, line_of(bad, "name=\"arc\""), "arc");
   }
   SECTION("a spline statement in a set without <spline>") {
     const std::string bad =
@@ -780,7 +780,12 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
   const std::vector<KrlMotion> motions = make_motions(cell, 8, 2);
   {
     KrlWriter w(set, info);
-    w.tool_change(3, "D12 ball\nmill");
+    KrlToolChange change;
+    change.number = 3;
+    change.name = "D12 ball\nmill";
+    change.tool_data = 3;
+    change.tool = "TOOL_DATA[3]";
+    w.tool_change(change);
     w.spindle(12000, true);
     w.coolant(true, "FLOOD");
     w.comment("roughing; pass 1\r\n");
@@ -797,13 +802,18 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
     return static_cast<long>(std::find(lines.begin(), lines.end(), l) - lines.begin());
   };
   for (const std::string& l :
-       {std::string("; TOOL CHANGE: T3 D12 ball mill"), std::string("; SPINDLE ON 12000 rpm CW"),
+       {std::string("$TOOL = TOOL_DATA[3]"), std::string("; SPINDLE ON 12000 rpm CW"),
         std::string("; COOLANT ON FLOOD")}) {
     INFO(l);
     CHECK(index(p1, l) < static_cast<long>(p1.size()));
     // Restated in part 2 before its first PTP, so that it runs alone.
     CHECK(index(p2, l) < static_cast<long>(motion_lines(p2).at(0).line_index));
   }
+  // The change itself (a HALT without a tool change routine) is not repeated: the tool is on.
+  CHECK(index(p1, "; TOOL CHANGE: T3 D12 ball mill") < static_cast<long>(p1.size()));
+  CHECK(index(p1, "HALT ; mount tool T3 by hand (TOOL_DATA[3]), then start the program again") <
+        static_cast<long>(p1.size()));
+  CHECK(index(p2, "; TOOL CHANGE: T3 D12 ball mill") == static_cast<long>(p2.size()));
   CHECK(index(p1, "; roughing; pass 1") < static_cast<long>(p1.size()));
   CHECK(index(p2, "WAIT SEC 0.5") < index(p2, "; SPINDLE OFF"));
   CHECK(index(p2, "; SPINDLE OFF") < static_cast<long>(p2.size()));

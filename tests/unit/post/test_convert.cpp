@@ -141,8 +141,12 @@ std::vector<KrlMotionLine> read_motions(const fs::path& src) {
   return out;
 }
 
-void check_example(const std::string& example, const std::string& templates) {
-  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+// tool_length_mm: the length of the example's tool (its TLDATA or CUTTER), whose TCP the program
+// is solved for (docs/tools.md); 0: the cell's own TCP.
+void check_example(const std::string& example, const std::string& templates,
+                   double tool_length_mm = 0.0) {
+  const Cell shipped = test::shipped_cell("andres2011_kr15_track_table");
+  const Cell cell = tool_length_mm > 0.0 ? cell_for_tool(shipped, tool_length_mm) : shipped;
   const Converted c = convert(example, "andres2011_kr15_track_table", templates);
   const auto targets = goto_targets(test::source_path("examples/cl/" + example));
   const auto rows = read_csv(c.dir / "joints.csv", cell.size());
@@ -204,7 +208,7 @@ TEST_CASE("convert: pocket with arcs, FK of the joints and the KRL read back mee
 }
 
 TEST_CASE("convert: 5-axis surface pass (NX CLSF)") {
-  check_example("surface_5axis.cls", "krc4_lin");
+  check_example("surface_5axis.cls", "krc4_lin", 75.0);
 }
 
 TEST_CASE("convert: a 2 m pass moves the track and the table, E1 and E2 follow") {

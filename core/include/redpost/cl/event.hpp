@@ -21,8 +21,11 @@ enum class ClEventKind {
   coolant,          // COOLNT: flag = on/off, text = mode (FLOOD, MIST, ...)
   operation_start,  // TOOL PATH/ (NX) or the first motion after a new operation: text = name
   operation_end,    // END-OF-PATH
-  comment,          // PPRINT, $$ comments the user wants kept: text
-  literal,          // INSERT/: text passed to the program verbatim
+  comment,          // PPRINT, INSERT free text, $$ comments the user wants kept: text
+  literal,          // INSERT/KRL: statement: KRL code passed to the program (checked there)
+  dwell,            // a drilling cycle's DWELL at the hole bottom: value = seconds
+  machine_frame,    // NX MSYS: p_mm = origin, tool_axis = the MCS z axis, both in NX's absolute
+                    // frame; flag = the CL data after it are turned into that frame (--msys apply)
   unknown_word,     // a major word the reader does not know: text = the word (first time only)
   end_of_program,   // FINI / END
 };
@@ -41,6 +44,11 @@ struct ClEvent {
   Eigen::Vector3d tool_axis = Eigen::Vector3d::UnitZ();  // unit, from tip towards spindle
   MoveOrigin origin = MoveOrigin::goto_point;
   bool rapid = false;  // this move is a rapid traverse (RAPID applied to it)
+  // A drilling cycle's clearance (RAPTO) for its moves: the plane through clearance_p_mm normal
+  // to tool_axis. Below it the tool may be inside the part, so a rapid must follow its straight
+  // line there (docs/convert.md, "Rapids").
+  bool has_clearance = false;
+  Eigen::Vector3d clearance_p_mm = Eigen::Vector3d::Zero();
 
   // tool_change
   int tool_number = 0;

@@ -24,6 +24,13 @@ enum class ClDialect {
   nx_clsf,    // Siemens NX CLSF: the CIRCLE axis is written "assuming a clockwise direction"
 };
 
+// What NX's MSYS record means for the CL data after it (docs/cl-format.md, "MSYS").
+enum class MsysMode {
+  ignore,  // the data stay in NX's machine coordinate system (MCS), the workpiece frame; every
+           // MSYS of the file must then be the same
+  apply,   // points and vectors are turned into NX's absolute frame: p_abs = origin + R p_mcs
+};
+
 struct ClReaderOptions {
   double chordal_tolerance_mm = 0.01;  // arcs and NURBS are split so that no chord strays further
   std::size_t max_line_bytes = 1u << 20;  // a longer physical line is refused with a message
@@ -36,6 +43,7 @@ struct ClReaderOptions {
   // SELECT/TOOL,n is a preselect (the next tool to fetch) in SolidWorks CAM and NX output; set
   // this for a dialect in which SELECT/TOOL loads the tool.
   bool select_tool_loads = false;
+  MsysMode msys = MsysMode::ignore;
 };
 
 class ClReader {

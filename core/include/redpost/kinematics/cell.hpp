@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "redpost/kinematics/tool_table.hpp"
 #include "redpost/kinematics/types.hpp"
 
 namespace redpost {
@@ -88,6 +89,20 @@ struct ConditioningSpec {
   int count() const { return last - first + 1; }
 };
 
+// How the cell's external axes are known to the controller (docs/cell-format.md, <controller>):
+// which kinematic the base turns with, and the data the program's base and tool changes name.
+struct ControllerSettings {
+  int base_data = 1;  // BASE_DATA index: $BASE, or the offset base of a coupled kinematic
+  // Chain index of the joint (a turntable) that carries the base as a mathematically coupled
+  // kinematic (KUKA #EASYS, $BASE = EK(...)); -1: the base is static.
+  int coupled_base_joint = -1;
+  int machine_def = 2;  // MACHINE_DEF index of that kinematic
+  // Chain index of a linear track that carries the robot as a ROBROOT kinematic (#ERSYS); -1:
+  // none. Informational: the controller moves $ROBROOT with it, the program only sets E1.
+  int robroot_joint = -1;
+  std::string tool_change_routine;  // a KRL routine of the cell, called with the tool number
+};
+
 struct Cell {
   std::string name;
   std::string source_file;
@@ -99,6 +114,9 @@ struct Cell {
   int joint_count = 0;
 
   ConditioningSpec conditioning;
+  ControllerSettings controller;
+  // The tools (tool_table.hpp): the reference length of the chain's TCP and, optionally, a table.
+  ToolTable tools;
 
   // Precomputed per-link constants, filled by finalize_cell().
   struct LinkConstants {

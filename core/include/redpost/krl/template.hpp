@@ -34,6 +34,9 @@ struct KrlTemplateSet {
   int rpm_decimals = 0;       // spindle speed
   bool spline = false;        // motions are grouped into SPLINE blocks of spline_lin
   int max_spline_points = 100;
+  // <limits max-bytes>: the largest .src a controller of this set loads (0: not given, the
+  // writer's default applies; KrlProgramInfo::max_file_bytes overrides both).
+  long max_file_bytes = 0;
 };
 
 // Throws Error(io / bad_input) with file:line.

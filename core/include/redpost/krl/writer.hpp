@@ -8,10 +8,11 @@
 // Every line ends with CRLF, as on the (Windows-based) controller.
 //
 // The program's first motion is always written as a PTP to its full E6AXIS (whatever its kind),
-// so that the controller's BCO run is a defined joint move. With motions_per_file > 0 the
-// program is NAME.src, which calls NAME_P001() ... in order; each part holds that many motions,
-// has its own .dat, and starts by restating the last tool change, spindle and coolant statements
-// and a PTP E6AXIS to where the previous part ended, so that it also runs alone.
+// so that the controller's BCO run is a defined joint move. A program is split into parts when
+// a .src would grow beyond max_file_bytes (by default 4 MiB, what a KR C4 loads comfortably), or
+// every motions_per_file motions: it is then NAME.src, which calls NAME_P001() ... in order; each
+// part has its own .dat and starts by restating the tool, spindle and coolant and a PTP E6AXIS
+// to where the previous part ended, so that it also runs alone.
 #pragma once
 
 #include <array>
@@ -26,15 +27,38 @@
 
 namespace redpost {
 
+// The default byte budget of one .src: a KR C4 loads programs of a few MB (about 4 MB on KSS
+// 8.3), and redpost check reads files of at most 16 MiB whole.
+inline constexpr long kDefaultMaxFileBytes = 4L * 1024 * 1024;
+
 struct KrlProgramInfo {
   std::string name;                   // KRL identifier, at most 24 characters (checked)
   std::string output_dir;             // must exist and be writable (checked at construction)
-  std::string base = "BASE_DATA[1]";  // right-hand side of $BASE =
-  std::string tool = "TOOL_DATA[1]";  // right-hand side of $TOOL =
+  std::string base = "BASE_DATA[1]";  // right-hand side of $BASE = (the offset base if coupled)
+  std::string tool = "TOOL_DATA[1]";  // right-hand side of $TOOL = until a tool_change()
   double apo_mm = 0.5;                // $APO.CDIS
-  int motions_per_file = 0;           // 0: no splitting
-  int cl_line_every = 50;             // a comment with the CL line every N motions (0: never)
-  std::string header_comment;         // e.g. "redpost 0.1.0, cell andres2011_kr15_track_table"
+  int motions_per_file = 0;           // 0: split by bytes only
+  // A .src is never larger than this (bytes); 0: the template set's <limits max-bytes>, or
+  // kDefaultMaxFileBytes. At least 16 KiB.
+  long max_file_bytes = 0;
+  int cl_line_every = 50;      // a comment with the CL line every N motions (0: never)
+  std::string header_comment;  // e.g. "redpost 0.1.0, cell andres2011_kr15_track_table"
+  // The base turns with a mathematically coupled kinematic (a turntable): $BASE comes from the
+  // template's base_coupled statement with {machine} (MACHINE_DEF index) and {ex_axes}.
+  bool base_coupled = false;
+  int machine_def = 2;
+  int base_data = 1;  // the BASE_DATA index ({base_data}), e.g. for KSS 5's BAS (#BASE, n)
+  int ex_axes = 0;
+  // The cell's tool change routine ({routine} in tool_change); empty: tool_change_manual.
+  std::string tool_change_routine;
+};
+
+// A tool change as the program writes it (docs/tools.md).
+struct KrlToolChange {
+  int number = 0;     // the CL tool number
+  std::string name;   // the CL tool's name (a comment)
+  int tool_data = 1;  // TOOL_DATA index
+  std::string tool;   // right-hand side of $TOOL =, e.g. "TOOL_DATA[16]"
 };
 
 enum class KrlMotionKind {
@@ -66,7 +90,13 @@ class KrlWriter {
   // speed is never written.
   void motion(const KrlMotion& m);
   void velocity(double vel_m_per_s);  // emitted before the next feed move when it changed
-  void tool_change(int number, const std::string& name);
+  // A circular motion from the last motion through aux to end (both KrlMotionKind::lin), as
+  // one CIRC; the set must have a circ statement (has_circ()). The caller proves it safe.
+  void circ(const KrlMotion& aux, const KrlMotion& end);
+  bool has_circ() const;
+  // The tool change statement (the cell's routine, or tool_change_manual), then tool_select.
+  void tool_change(const KrlToolChange& change);
+  void dwell(double seconds);                // the set's dwell statement (WAIT SEC)
   void spindle(double rpm, bool clockwise);  // rpm 0: off
   void coolant(bool on, const std::string& mode);
   void comment(const std::string& text);  // sanitised: no line breaks, ';' prefixed by template

@@ -19,6 +19,7 @@
 #include "redpost/cl/event.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
+#include "redpost/kinematics/tool_table.hpp"
 #include "redpost/krl/writer.hpp"
 #include "redpost/redundancy/tracker.hpp"
 
@@ -62,6 +63,16 @@ struct PostOptions {
   double arc_point_tolerance_mm = 0.005;
   // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
   double default_feed_mm_per_min = 1000.0;
+  // Rapids (docs/convert.md, "Rapids"): below a clearance plane a rapid follows the straight
+  // line the CL data give (a LIN at rapid_velocity_m_per_s); above it, a joint-interpolated PTP
+  // is written where its whole path stays above the plane. The plane is a drilling cycle's
+  // clearance for its moves, else z = clearance_z_mm in the CL frame; NaN: none (every rapid
+  // outside a cycle is a LIN).
+  double clearance_z_mm = std::numeric_limits<double>::quiet_NaN();
+  double rapid_velocity_m_per_s = 0.25;
+  // A tool table that replaces the cell's entries (docs/tools.md); with no entries anywhere,
+  // CL tool n is TOOL_DATA[n] with the CL file's length.
+  ToolTable tools;
   // Name of the CL source, for messages ("part.apt").
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
@@ -95,7 +106,11 @@ class PostSession {
   // Dispatches one event of a CL stream to the calls below.
   void handle(const ClEvent& event);
 
-  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm);
+  // A tool change at CL line `cl_line` (docs/tools.md): the tool's TOOL_DATA and TCP from the
+  // tool table; a retract along the tool axis to the clearance plane first, a PTP approach to
+  // the next move after.
+  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm,
+                   int cl_line = 0);
   void spindle(double rpm, SpindleDirection direction);
   void feed(double mm_per_min);
   void rapid();  // the next move is a rapid traverse
@@ -108,10 +123,15 @@ class PostSession {
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
   void coolant(bool on, const std::string& mode);
+  void dwell(double seconds);
+  // NX's MSYS as the reader saw it (ClEventKind::machine_frame): remembered for the messages.
+  void machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool applied, int cl_line);
   void operation_start(const std::string& name);
   void operation_end();
   void comment(const std::string& text);
-  void literal(const std::string& text);
+  // KRL code passed through: refused (Error bad_input at cl_line) unless it is one statement of
+  // the kinds redpost checks (krl/statement.hpp: assignment, WAIT, HALT, a routine call).
+  void literal(const std::string& text, int cl_line = 0);
 
   // Completes the program (renaming the files into place) and returns the summary.
   const PostSummary& finish();

@@ -1,0 +1,105 @@
+// The state of a post session (PostSession::Impl) and its steps, shared by the session's
+// sources: session.cpp (the public calls, the joints log, finish), motion.cpp (tracking moves,
+// rapids against the clearance plane, what is written), tools.cpp (the tool table and tool
+// changes).
+//
+// Internal to redpost::core; not installed.
+#pragma once
+
+#include <deque>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "post/pending_file.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/status_turn.hpp"
+#include "redpost/post/session.hpp"
+
+namespace redpost {
+
+// A plane the tool may be below only on a straight line: points p with n . (p - point) >= 0
+// are above it. In CL (part) coordinates.
+struct ClearancePlane {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double height(const Eigen::Vector3d& p) const { return normal.dot(p - point); }
+};
+
+struct PostSession::Impl {
+  const Cell& cell;  // as given, with the chain's TCP
+  PostOptions o;
+  // The cell of the active tool (its TCP) and the tracker on it; tools keep their cells here so
+  // that a tool used twice is made once.
+  std::deque<std::pair<int, Cell>> tool_cells;
+  const Cell* active_cell;
+  Tracker tracker;
+  KrlWriter writer;
+  ArmStatusModel arm;
+  std::unique_ptr<PendingFile> csv;
+  fmt::memory_buffer line;
+
+  bool started = false;
+  bool approach_pending = false;  // after a tool change: the next move is a PTP approach
+  bool next_rapid = false;
+  double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
+  bool feed_warned = false;
+  TcpTarget last_target;
+  // The last move's point and tool axis in CL coordinates: the start of a circular move.
+  Eigen::Vector3d last_cl_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d last_cl_axis = Eigen::Vector3d::UnitZ();
+  PoseResult last;
+  KinematicsData data;
+  JointVector q_physical;
+  int spin_last = -1;  // chain index of a final pure-spin virtual joint (see physical_tcp)
+  PostSummary summary;
+
+  // Tools (tools.cpp).
+  int tool_number = -1;  // the active CL tool, -1 before any tool change
+  double first_length_mm = std::numeric_limits<double>::quiet_NaN();  // without a reference
+  int first_length_line = 0;
+
+  // NX's MSYS, for the messages of an unreachable first pose.
+  int msys_line = 0;
+  bool msys_applied = false;
+  Eigen::Vector3d msys_z = Eigen::Vector3d::UnitZ();
+
+  Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options);
+
+  // --- motion.cpp ----------------------------------------------------------------------------
+  [[noreturn]] void fail(const PoseResult& r, int cl_line, const char* what);
+  std::string first_pose_advice() const;
+  void record(const PoseResult& r, int cl_line);
+  void emit(KrlMotionKind kind, const JointVector& q, int cl_line);
+  void observe(const KrlMotion& m, const JointVector& q);
+  Isometry physical_tcp(const JointVector& q);
+  static int last_pure_spin(const Cell& c);
+  TcpTarget target_in_B(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line);
+  // A move to p_mm; `cycle` is the clearance of a drilling cycle's move, if it is one.
+  void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line,
+            const ClearancePlane* cycle);
+  void first_or_approach(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line,
+                         const std::optional<ClearancePlane>& plane);
+  // Tracks the straight line from the last target to `target` in steps; false if a rapid's line
+  // could not be tracked and its end was solved directly (it must then be a PTP).
+  bool track_line(const TcpTarget& target, int cl_line, bool rapid);
+  void rapid_move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line,
+                  const std::optional<ClearancePlane>& plane);
+  void rapid_piece(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line,
+                   const std::optional<ClearancePlane>& plane, bool below);
+  bool ptp_stays_above(const JointVector& q0, const JointVector& q1, const ClearancePlane& plane);
+  std::optional<ClearancePlane> plane_for(const ClearancePlane* cycle) const;
+  void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis);
+  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+
+  // --- tools.cpp -----------------------------------------------------------------------------
+  void tool_change(int number, const std::string& name, double length_mm, int cl_line);
+  void use_tool_cell(int number, double length_mm, int cl_line);
+  void retract_for_tool_change(int cl_line);
+};
+
+}  // namespace redpost

@@ -1,0 +1,173 @@
+// The C ABI's internals shared by its sources: abi.cpp (sessions) and abi_reader.cpp (the CL
+// reader, and reader events sent to a session). The error plumbing (guard: every C++ exception
+// becomes an rp_status and a message) and the handle types behind redpost.h.
+//
+// Internal to libredpost; not installed.
+#pragma once
+
+#include <fstream>
+#include <memory>
+#include <new>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "redpost.h"
+#include "redpost/cl/reader.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/post/session.hpp"
+
+namespace redpost::abi {
+
+using redpost::ErrorCode;
+
+// rp_last_error(NULL): the last failure of rp_open, rp_reader_open or a NULL handle, per thread
+// (hosts may open sessions on several threads at once).
+inline thread_local std::string t_error;
+
+inline rp_status status_of(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::bad_input:
+      return RP_ERR_BAD_INPUT;
+    case ErrorCode::io:
+      return RP_ERR_IO;
+    case ErrorCode::unreachable:
+      return RP_ERR_UNREACHABLE;
+    case ErrorCode::joint_limit:
+      return RP_ERR_JOINT_LIMIT;
+    case ErrorCode::internal:
+      return RP_ERR_INTERNAL;
+  }
+  return RP_ERR_INTERNAL;
+}
+
+// A failure the ABI itself detects (NULL argument, wrong state), carried like an Error.
+struct AbiError {
+  rp_status status;
+  std::string message;
+};
+
+// Runs f(), returning RP_OK, or the status of what it threw with `prefix` + message in `error`.
+template <class F>
+rp_status guard(std::string& error, const std::string& prefix, F&& f) noexcept {
+  try {
+    try {
+      f();
+      return RP_OK;
+    } catch (const AbiError& e) {
+      error = prefix + e.message;
+      return e.status;
+    } catch (const redpost::Error& e) {
+      error = prefix + e.what();
+      return status_of(e.code());
+    } catch (const std::bad_alloc&) {
+      error = prefix + "out of memory";
+      return RP_ERR_INTERNAL;
+    } catch (const std::exception& e) {
+      error = prefix + "internal error: " + e.what();
+      return RP_ERR_INTERNAL;
+    } catch (...) {
+      error = prefix + "internal error: an unknown exception";
+      return RP_ERR_INTERNAL;
+    }
+  } catch (...) {
+    // Building the message itself failed (out of memory): the status still gets through.
+    return RP_ERR_INTERNAL;
+  }
+}
+
+inline rp_status null_handle(const char* what) noexcept {
+  try {
+    t_error = std::string(what) + " is NULL";
+  } catch (...) {
+  }
+  return RP_ERR_NULL;
+}
+
+inline std::string required(const char* s, const char* what) {
+  if (!s)
+    throw AbiError{RP_ERR_NULL, std::string(what) + " is NULL"};
+  return s;
+}
+
+// The shipped definitions (abi.cpp): installed beside the library, or the source tree's.
+std::string definitions_dir();
+// A template set: a file, or the name of a shipped set; NULL: krc4_lin (abi.cpp).
+std::string template_set_path(const char* given);
+
+inline Eigen::Vector3d vec(double x, double y, double z) {
+  return Eigen::Vector3d(x, y, z);
+}
+
+}  // namespace redpost::abi
+
+struct rp_session {
+  enum class State { open, failed, closed };
+
+  // The cell and templates outlive the PostSession, which holds references to them.
+  redpost::Cell cell;
+  redpost::KrlTemplateSet templates;
+  std::unique_ptr<redpost::PostSession> post;
+  State state = State::open;
+  long events = 0;  // events sent so far, refused ones included
+  bool line_set = false;
+  int line = 0;
+  std::string failure;  // the message of the event that failed the session
+  mutable std::string error;
+  // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
+  std::optional<redpost::PostSummary> summary_kept;
+  std::optional<redpost::PoseResult> pose_kept;
+  double conditioning_threshold = 0.0;  // the tracker's, for rp_motion
+
+  const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
+  const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
+
+  int current_line() const { return line_set ? line : static_cast<int>(events); }
+
+  // Dropping the PostSession removes its temporary files; the diagnostics are copied first.
+  void abandon() {
+    if (!post)
+      return;
+    summary_kept = post->summary();
+    pose_kept = post->last_pose();
+    post.reset();
+  }
+
+  // One event: counted, refused unless open, failing the session if it throws.
+  template <class F>
+  rp_status event(F&& f) noexcept {
+    ++events;
+    std::string prefix;
+    try {
+      prefix = "event " + std::to_string(events) + ": ";
+    } catch (...) {
+      return RP_ERR_INTERNAL;
+    }
+    const rp_status s = redpost::abi::guard(error, prefix, [&] {
+      if (state == State::failed) {
+        throw redpost::abi::AbiError{RP_ERR_STATE,
+                                     "refused because the session failed at " + failure};
+      }
+      if (state == State::closed)
+        throw redpost::abi::AbiError{RP_ERR_STATE, "refused because the session is closed"};
+      f();
+    });
+    if (s != RP_OK && state == State::open) {
+      state = State::failed;
+      try {
+        failure = error;
+      } catch (...) {
+      }
+    }
+    return s;
+  }
+};
+
+struct rp_reader {
+  std::ifstream in;
+  std::unique_ptr<redpost::ClReader> reader;
+  redpost::ClEvent event;
+  std::string error;
+};
