@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "krl/diff_align.hpp"
+#include "krl/reader_parse.hpp"
 #include "krl/text.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
@@ -471,7 +472,7 @@ std::vector<std::string> krl_main_programs(const std::string& directory) {
   std::set<std::string> called;
   for (const fs::path& f : files) {
     const std::string self = upper(f.stem().string());
-    for (const std::string& n : called_names(read_text_file(f.string())))
+    for (const std::string& n : called_names(krl::read_krl_text(f.string())))
       if (n != self)
         called.insert(n);
   }

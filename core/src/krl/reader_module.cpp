@@ -36,6 +36,44 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
+// Reads a .src or .dat a line at a time: a line longer than any KRL line is refused as soon as it
+// is seen (memory stays bounded on a file that is no program), and the whole file at
+// kMaxKrlFileBytes. The bytes are kept as they are (CRLF, LF or CR line ends).
+std::string read_krl_text(const std::string& path) {
+  std::ifstream in = open_text_stream(path);
+  std::string text;
+  std::streambuf* buf = in.rdbuf();
+  int line = 1;
+  std::size_t line_start = 0;
+  for (int c = buf->sbumpc(); c != std::char_traits<char>::eof(); c = buf->sbumpc()) {
+    text += static_cast<char>(c);
+    if (c == '\r' || c == '\n') {
+      if (c == '\r' && buf->sgetc() == '\n')
+        text += static_cast<char>(buf->sbumpc());
+      ++line;
+      line_start = text.size();
+      continue;
+    }
+    if (text.size() - line_start > kMaxKrlLineBytes) {
+      throw Error(ErrorCode::bad_input,
+                  "a line longer than " + std::to_string(kMaxKrlLineBytes) +
+                      " bytes: no KRL program has one (is it the right file?)",
+                  SourceLocation{path, line, 0});
+    }
+    if (text.size() > kMaxKrlFileBytes) {
+      throw Error(ErrorCode::io,
+                  "file has more than " + std::to_string(kMaxKrlFileBytes) +
+                      " bytes, far beyond any controller's program: is it the right file?",
+                  SourceLocation{path, 0, 0});
+    }
+  }
+  if (in.bad()) {
+    throw Error(ErrorCode::io, "read error: is it a readable regular file?",
+                SourceLocation{path, line, 0});
+  }
+  return text;
+}
+
 // Splits a line into code and comment at the first ';' outside a "..." string.
 void split_comment(const std::string& line, std::string& code, std::string& comment) {
   bool in_string = false;
@@ -209,7 +247,7 @@ void index_defs(Module& m) {
 
 // The point DECLs between DEFDAT and ENDDAT of the module's .dat.
 void read_dat(Module& m) {
-  std::vector<std::string> dat = split_lines(read_text_file(m.dat_path));
+  std::vector<std::string> dat = split_lines(read_krl_text(m.dat_path));
   bool in_defdat = false;
   for (int i = 0; i < static_cast<int>(dat.size()); ++i) {
     std::string code, comment;
@@ -235,7 +273,7 @@ void read_dat(Module& m) {
 Module load_module(const std::string& src_path) {
   Module m;
   m.src_path = src_path;
-  m.lines = split_lines(read_text_file(src_path));
+  m.lines = split_lines(read_krl_text(src_path));
   index_defs(m);
 
   // local point DECLs in the DEFs

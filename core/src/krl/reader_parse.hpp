@@ -18,6 +18,11 @@ namespace redpost::krl {
 
 // --- lines -------------------------------------------------------------------------------------
 
+// The whole of a .src or .dat as it is; Error(bad_input) at a line longer than kMaxKrlLineBytes,
+// Error(io) beyond kMaxKrlFileBytes.
+inline constexpr std::size_t kMaxKrlLineBytes = 64 * 1024;
+std::string read_krl_text(const std::string& path);
+
 // Splits on LF, CRLF or CR.
 std::vector<std::string> split_lines(const std::string& text);
 

@@ -23,13 +23,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Rx(pi): F_Pi -> the chain's TCP frame at beta = its virtual joint value (eqs. 2.7, 2.10).
-Isometry rx_pi() {
-  Isometry T = Isometry::Identity();
-  T.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
-  return T;
-}
-
 }  // namespace
 
 Isometry workpiece_frame(const Placement& p) {
@@ -76,8 +69,11 @@ std::vector<PathPoint> tool_path(const PlacementJob& job) {
   return path;
 }
 
+// The TCP at a path point: F_Pi itself. Its z axis (the tool axis towards the robot) is the
+// cell's TCP z (tip towards spindle); Caro's F7 = F_Pi Rx(pi) is the TCP turned back by the
+// cell's tool frame.
 Isometry tcp_target(const Cell& cell, const Isometry& T_0_W, const Isometry& T_W_P) {
-  return cell.T_B_0 * T_0_W * T_W_P * rx_pi();
+  return cell.T_B_0 * T_0_W * T_W_P;
 }
 
 void CostMap::resize(int n_points, int n_betas) {
@@ -319,7 +315,7 @@ void PlacementProblem::fill_points(const Placement& p, CostMap& map, bool early_
   reached = 0;
   first_failure = -1;
   for (int i = first; i < map.points; i += stride) {
-    const Isometry T_B_tcp = T_B_W * path_[static_cast<size_t>(i)].T_W_P * rx_pi();
+    const Isometry T_B_tcp = T_B_W * path_[static_cast<size_t>(i)].T_W_P;
     point_load(T_B_W, i, w_B, y_B);
     bool any = false;
     for (int b = 0; b < map.betas; ++b) {
@@ -418,7 +414,7 @@ std::vector<JointVector> PlacementProblem::joint_path(const Placement& p,
     for (int k = 0; k < seg.count; ++k) {
       const int i = seg.first + k;
       q_other[spin_joint_] = grid_.beta_rad(plan.beta_index[static_cast<size_t>(i)]);
-      const Isometry T_B_tcp = T_B_W * path_[static_cast<size_t>(i)].T_W_P * rx_pi();
+      const Isometry T_B_tcp = T_B_W * path_[static_cast<size_t>(i)].T_W_P;
       // The 2 pi representatives nearest the previous point's: the unwrapped joint path.
       const ArmIkSolutions sol = ik_->solve(T_B_tcp, q_other, k > 0 ? &out.back() : nullptr);
       if (!sol.valid[m]) {

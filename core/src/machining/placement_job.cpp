@@ -199,10 +199,13 @@ void read_cell(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   int spins = 0;
   for (int i = 0; i < job.cell.size(); ++i)
     spins += job.cell.joint(i).type == JointType::virtual_spin;
+  // The spin turns the TCP about the tool axis: nothing may move the TCP after it, a tool frame
+  // may only turn it (caro2014_kr270_table's turns z to point from the tip to the spindle).
   if (spins != 1 || job.cell.joint(job.cell.size() - 1).type != JointType::virtual_spin ||
-      job.cell.has_tcp_frame) {
+      job.cell.T_last_tcp.translation().norm() > 1e-9) {
     r.fail(ce, "the cell '" + job.cell_file + "' must end with its tool spin beta as the " +
-                   "last joint (virtual, no tool frame after it), as caro2014_kr270_table does");
+                   "last joint (virtual; a tool frame after it may only turn the TCP), as "
+                   "caro2014_kr270_table does");
   }
 }
 

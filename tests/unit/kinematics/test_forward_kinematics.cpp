@@ -84,10 +84,11 @@ TEST_CASE("fk: KR270-2 spindle frame is the flange composed with Caro eq. 2.9") 
   KinematicsData data;
   for (int k = 0; k < 200; ++k) {
     JointVector q = test::random_posture(cell, rng);
-    q[6] = 0.0;  // beta = 0: the TCP is F7 itself
+    q[6] = 0.0;  // beta = 0: the TCP is F7 turned by pi about x7 (z from the tip to the spindle)
     forward_kinematics(cell, q, data);
     const Isometry& T_B_6 = data.T_B_link[5];
-    CHECK((data.T_B_tcp.linear() - T_B_6.linear() * R_6_7).norm() < 1e-12);
+    const Eigen::Matrix3d Rx_pi = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+    CHECK((data.T_B_tcp.linear() - T_B_6.linear() * R_6_7 * Rx_pi).norm() < 1e-12);
     const Eigen::Vector3d p = T_B_6 * Eigen::Vector3d(0, 0, 684);
     CHECK((data.T_B_tcp.translation() - p).norm() < 1e-9);
   }

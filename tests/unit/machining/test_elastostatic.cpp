@@ -284,7 +284,8 @@ TEST_CASE("elastostatic: KR270-2 deflection under a milling force is plausible",
   redpost::KinematicsData data;
   redpost::forward_kinematics(cell, q, data);
   const Eigen::Vector3d p = data.T_B_tcp.translation();
-  const Eigen::Vector3d z7 = data.T_B_tcp.linear().col(2);
+  // Caro's z7 points out of the tool; the cell's TCP z from the tip towards the spindle.
+  const Eigen::Vector3d z7 = -data.T_B_tcp.linear().col(2);
   REQUIRE(z7.z() < -0.999);
 
   // F_P: x the feed, z the tool axis towards the robot (-z7), y = z x x.

@@ -93,10 +93,11 @@ TEST_CASE("placement: the TCP target solves eq. 2.7 with beta as the virtual joi
   for (int k = 0; k < 100; ++k) {
     JointVector q = test::random_posture(cell, rng);
     const double beta = q[spin];
-    // F7 from the chain with the spin at 0: {B} -> F6 -> 6T_7 (eq. 2.9).
+    // F7 from the chain with the spin at 0: {B} -> F6 -> 6T_7 (eq. 2.9); the cell's tool frame
+    // after the spin (z turned to point from the tip to the spindle) taken off.
     JointVector q0 = q;
     q0[spin] = 0.0;
-    const Isometry T_B_7 = tcp_pose(cell, q0);
+    const Isometry T_B_7 = tcp_pose(cell, q0) * cell.T_last_tcp.inverse(Eigen::Isometry);
     // Any placement; F_Pi from eq. 2.7: 0T_W WT_Pi = 0T_7 7T_Pi with 7T_Pi as printed.
     const Isometry T_0_W = workpiece_frame(Placement{100 * u(rng), -1800, -300, u(rng)});
     Isometry T_7_P = Isometry::Identity();

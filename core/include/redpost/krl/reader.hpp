@@ -8,12 +8,18 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace redpost {
+
+// The largest .src or .dat the reader, check and diff take: far beyond what a controller loads
+// (a few MB; programs are split below that), so that an oversized program is reported rather
+// than refused, and bounded so that a hostile input cannot take any amount of memory.
+inline constexpr std::size_t kMaxKrlFileBytes = std::size_t{512} << 20;  // 512 MiB
 
 // An aggregate such as {X 1, Y 2, Z 3, A 0, B 90, C 0, S 6, T 27, E1 0} or {A1 0, ..., E1 0},
 // with any subset of fields. Field names upper case; S and T kept as integers.
