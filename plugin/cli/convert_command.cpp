@@ -197,6 +197,7 @@ int run_convert(const ConvertOptions& opt) {
   rp_reader_options_init(&ro);
   ro.chordal_tolerance_mm = opt.chordal_tolerance_mm;
   ro.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
+  ro.arcs_as_events = 1;  // the session writes a CIRC where the set has one, chords otherwise
   if (const rp_status st = rp_reader_open_ex(opt.input.c_str(), &ro, &h.reader); st != RP_OK) {
     return report(st, rp_last_error(nullptr));
   }

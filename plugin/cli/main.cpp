@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"redpost: postprocessor for redundant robotic milling cells"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "redpost 0.1.0");
+  app.set_version_flag("--version", "redpost 0.2.0");
 
   const redpost::cli::Runner fk = redpost::cli::add_fk_command(app);
   const redpost::cli::Runner convert = redpost::cli::add_convert_command(app);

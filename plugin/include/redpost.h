@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 1
+#define REDPOST_VERSION_MINOR 2
 #define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.1.0"
+#define REDPOST_VERSION "0.2.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -104,7 +104,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.1.0". */
+/* The library's version, e.g. "0.2.0". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -228,8 +228,10 @@ typedef enum rp_event_kind {
   RP_EVENT_LITERAL,
   RP_EVENT_UNKNOWN_WORD,
   RP_EVENT_END_OF_PROGRAM,
-  RP_EVENT_DWELL,        /* value = seconds at a hole's bottom (added in 0.2) */
-  RP_EVENT_MACHINE_FRAME /* NX MSYS: p = origin, axis = MCS z, flag = applied (added in 0.2) */
+  RP_EVENT_DWELL,         /* value = seconds at a hole's bottom (added in 0.2) */
+  RP_EVENT_MACHINE_FRAME, /* NX MSYS: p = origin, axis = MCS z, flag = applied (added in 0.2) */
+  RP_EVENT_ARC /* CIRCLE + GOTO (rp_reader_options.arcs_as_events): p, axis the end; arc_centre,
+                  arc_axis (right-hand rule); value the radius, 0: from the start (added in 0.2) */
 } rp_event_kind;
 
 typedef struct rp_event {
@@ -248,6 +250,8 @@ typedef struct rp_event {
    * normal to the move's tool axis). */
   int has_clearance;
   double clearance_p[3];
+  double arc_centre[3];
+  double arc_axis[3];
 } rp_event;
 
 typedef enum rp_msys_mode {
@@ -259,6 +263,7 @@ typedef struct rp_reader_options {
   unsigned struct_size; /* sizeof(rp_reader_options), set by rp_reader_options_init */
   double chordal_tolerance_mm;
   rp_msys_mode msys;
+  int arcs_as_events; /* 1: CIRCLE + GOTO as one RP_EVENT_ARC (a session may write a CIRC) */
 } rp_reader_options;
 
 RP_API void rp_reader_options_init(rp_reader_options* options);

@@ -60,6 +60,7 @@ RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* op
     redpost::ClReaderOptions read;
     read.chordal_tolerance_mm = o.chordal_tolerance_mm;
     read.msys = o.msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
+    read.arcs_as_events = o.arcs_as_events != 0;
     r->reader = std::make_unique<redpost::ClReader>(r->in, path, read);
   });
   if (s == RP_OK)
@@ -124,6 +125,9 @@ RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
       case redpost::ClEventKind::machine_frame:
         out.kind = RP_EVENT_MACHINE_FRAME;
         break;
+      case redpost::ClEventKind::arc:
+        out.kind = RP_EVENT_ARC;
+        break;
     }
     out.line = e.line;
     for (int i = 0; i < 3; ++i) {
@@ -149,8 +153,11 @@ RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
     out.flag = e.flag ? 1 : 0;
     out.text = e.text.c_str();  // the reader's event: valid until the next rp_reader_next
     out.has_clearance = e.has_clearance ? 1 : 0;
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < 3; ++i) {
       out.clearance_p[i] = e.clearance_p_mm[i];
+      out.arc_centre[i] = e.arc_centre_mm[i];
+      out.arc_axis[i] = e.arc_axis[i];
+    }
     *event = out;
     *more = 1;
   });
@@ -225,6 +232,9 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
       case RP_EVENT_MACHINE_FRAME:
         e.kind = redpost::ClEventKind::machine_frame;
         break;
+      case RP_EVENT_ARC:
+        e.kind = redpost::ClEventKind::arc;
+        break;
       default:
         throw AbiError{RP_ERR_BAD_INPUT, "event kind " +
                                              std::to_string(static_cast<int>(event->kind)) +
@@ -257,6 +267,8 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
       e.text = event->text;
     e.has_clearance = event->has_clearance != 0;
     e.clearance_p_mm = vec(event->clearance_p[0], event->clearance_p[1], event->clearance_p[2]);
+    e.arc_centre_mm = vec(event->arc_centre[0], event->arc_centre[1], event->arc_centre[2]);
+    e.arc_axis = vec(event->arc_axis[0], event->arc_axis[1], event->arc_axis[2]);
     session->post->handle(e);
   });
 }

@@ -562,6 +562,8 @@ const char* event_kind_name(rp_event_kind k) {
       return "dwell";
     case RP_EVENT_MACHINE_FRAME:
       return "machine_frame";
+    case RP_EVENT_ARC:
+      return "arc";
   }
   return "unknown";
 }
@@ -610,6 +612,8 @@ int cmd_reader_next(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const 
   put(d, "text", Tcl_NewStringObj(e.text ? e.text : "", -1));
   put(d, "has_clearance", Tcl_NewIntObj(e.has_clearance));
   put(d, "clearance_p", double_list(e.clearance_p, 3));
+  put(d, "arc_centre", double_list(e.arc_centre, 3));
+  put(d, "arc_axis", double_list(e.arc_axis, 3));
   Tcl_SetObjResult(interp, d);
   return TCL_OK;
 }

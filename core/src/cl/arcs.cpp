@@ -76,6 +76,21 @@ void ClReader::Impl::start_arc(const Vector3d& end, const Vector3d& tool_axis) {
     case detail::ArcProblem::too_many_chords:
       fail_line(arc_line, built.message);
   }
+  if (opt.arcs_as_events) {
+    // One event for the whole arc: the session writes it as a CIRC where it can (its template
+    // set has one and the arc passes the replay), else as the same chords.
+    ClEvent& e = push(ClEventKind::arc, record_line);
+    e.p_mm = end;
+    e.tool_axis = axis;
+    e.arc_centre_mm = arc_centre;
+    e.arc_axis = arc_axis;
+    e.value = arc_has_radius ? arc_radius_mm : 0.0;
+    e.rapid = take_rapid();
+    e.origin = MoveOrigin::arc;
+    pos = end;
+    pos_known = true;
+    return;
+  }
   arc = built.arc;
   arc_done = 0;
   gen_axis = tool_axis;

@@ -145,6 +145,13 @@ void PostSession::Impl::record(const PoseResult& r, int cl_line) {
 }
 
 void PostSession::Impl::emit(KrlMotionKind kind, const JointVector& q, int cl_line) {
+  const KrlMotion m = motion_at(kind, q, cl_line);
+  writer.motion(m);
+  after_write(m, q);
+}
+
+// The motion to the posture q (the tracker's current one), checked against the limits.
+KrlMotion PostSession::Impl::motion_at(KrlMotionKind kind, const JointVector& q, int cl_line) {
   // Never write a posture outside the limits: the tracker guarantees it, this makes sure.
   if (!within_limits(cell, q)) {
     throw Error(ErrorCode::internal, "a posture outside the joint limits reached the writer",
@@ -156,7 +163,12 @@ void PostSession::Impl::emit(KrlMotionKind kind, const JointVector& q, int cl_li
   m.cl_line = cl_line;
   m.T_base_tcp = o.T_B_base.inverse() * physical_tcp(q);
   m.status_turn = status_turn(cell, arm, q);
-  writer.motion(m);
+  return m;
+}
+
+// The motion count, the observer and the joints log of a written motion.
+void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q) {
+  const int cl_line = m.cl_line;
   ++summary.motions;
   if (o.on_motion)
     observe(m, q);
@@ -459,6 +471,15 @@ void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen
   // Every chord of a rapid arc is rapid, as the reader marks them.
   const bool rapid = next_rapid;
   const Eigen::Vector3d chord_axis = last_cl_axis;
+  // A feed arc in one plane with one tool axis may be one CIRC (circ.cpp).
+  const bool planar = std::fabs(built.arc.h1 - built.arc.h0) < 1e-9 &&
+                      built.arc.sweep_rad < 2.0 * 3.14159265358979323846 - 1e-6;
+  if (!rapid && !approach_pending && writer.has_circ() && planar && built.arc.chords > 1 &&
+      (tool_axis.normalized() - chord_axis).norm() < 1e-9) {
+    next_rapid = false;
+    if (try_circ(built.arc, chord_axis, cl_line))
+      return;
+  }
   for (long k = 1; k <= built.arc.chords; ++k) {
     next_rapid = rapid;
     move(built.arc.point(k), k == built.arc.chords ? tool_axis : chord_axis, cl_line, nullptr);

@@ -42,7 +42,8 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       tracker(c, options.tracker),
       writer(templates, program_for(c, options.program)),
       arm(make_arm_status_model(c)),
-      spin_last(last_pure_spin(c)) {
+      spin_last(last_pure_spin(c)),
+      templates_position_decimals(templates.position_decimals) {
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
       o.rapid_velocity_m_per_s > 2.0) {
     throw Error(ErrorCode::bad_input,
@@ -122,6 +123,11 @@ void PostSession::handle(const ClEvent& e) {
       break;
     case ClEventKind::dwell:
       dwell(e.value);
+      break;
+    case ClEventKind::arc:
+      if (e.rapid)
+        rapid();
+      circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line);
       break;
     case ClEventKind::machine_frame:
       machine_frame(e.tool_axis, e.flag, e.line);

@@ -14,7 +14,9 @@
 
 #include <fmt/format.h>
 
+#include "cl/arc_chords.hpp"
 #include "post/pending_file.hpp"
+#include "redpost/kinematics/arm_ik.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
 #include "redpost/post/session.hpp"
@@ -62,6 +64,13 @@ struct PostSession::Impl {
   double first_length_mm = std::numeric_limits<double>::quiet_NaN();  // without a reference
   int first_length_line = 0;
 
+  // CIRC (circ.cpp): the arm's closed-form IK on the active cell, for the replay of a CIRC.
+  int templates_position_decimals = 3;
+  std::unique_ptr<ArmIk> arm_ik;
+  const Cell* arm_ik_cell = nullptr;
+  std::string arm_ik_problem;
+  int circ_fallbacks = 0;
+
   // NX's MSYS, for the messages of an unreachable first pose.
   int msys_line = 0;
   bool msys_applied = false;
@@ -74,6 +83,8 @@ struct PostSession::Impl {
   std::string first_pose_advice() const;
   void record(const PoseResult& r, int cl_line);
   void emit(KrlMotionKind kind, const JointVector& q, int cl_line);
+  KrlMotion motion_at(KrlMotionKind kind, const JointVector& q, int cl_line);
+  void after_write(const KrlMotion& m, const JointVector& q);
   void observe(const KrlMotion& m, const JointVector& q);
   Isometry physical_tcp(const JointVector& q);
   static int last_pure_spin(const Cell& c);
@@ -95,6 +106,13 @@ struct PostSession::Impl {
   void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis);
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+
+  // --- circ.cpp ------------------------------------------------------------------------------
+  bool try_circ(const detail::ArcChords& arc, const Eigen::Vector3d& tool_axis, int cl_line);
+  bool circ_replay_ok(const JointVector& q0, const JointVector& q1, const detail::ArcChords& arc,
+                      std::string& why);
+  const ArmIk* arm_ik_for_active(std::string& why);
+  Isometry physical_tcp_fk(const JointVector& q);
 
   // --- tools.cpp -----------------------------------------------------------------------------
   void tool_change(int number, const std::string& name, double length_mm, int cl_line);

@@ -24,6 +24,9 @@ enum class ClEventKind {
   comment,          // PPRINT, INSERT free text, $$ comments the user wants kept: text
   literal,          // INSERT/KRL: statement: KRL code passed to the program (checked there)
   dwell,            // a drilling cycle's DWELL at the hole bottom: value = seconds
+  arc,              // CIRCLE + GOTO as one event (ClReaderOptions::arcs_as_events): p_mm the end,
+                    // tool_axis the end's, arc_centre_mm, arc_axis (right-hand rule), value the
+                    // radius (0: from the start)
   machine_frame,    // NX MSYS: p_mm = origin, tool_axis = the MCS z axis, both in NX's absolute
                     // frame; flag = the CL data after it are turned into that frame (--msys apply)
   unknown_word,     // a major word the reader does not know: text = the word (first time only)
@@ -49,6 +52,10 @@ struct ClEvent {
   // line there (docs/convert.md, "Rapids").
   bool has_clearance = false;
   Eigen::Vector3d clearance_p_mm = Eigen::Vector3d::Zero();
+
+  // arc
+  Eigen::Vector3d arc_centre_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d arc_axis = Eigen::Vector3d::UnitZ();
 
   // tool_change
   int tool_number = 0;

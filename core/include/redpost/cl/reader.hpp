@@ -44,6 +44,9 @@ struct ClReaderOptions {
   // this for a dialect in which SELECT/TOOL loads the tool.
   bool select_tool_loads = false;
   MsysMode msys = MsysMode::ignore;
+  // CIRCLE + GOTO as one ClEventKind::arc instead of its chords (the post session chords it, or
+  // writes a CIRC).
+  bool arcs_as_events = false;
 };
 
 class ClReader {

@@ -1,0 +1,213 @@
+// Arcs written as one CIRC (docs/krl-templates.md, "CIRC"), where the template set has a circ
+// statement and the arc is proven safe; otherwise the chords of circular_move.
+//
+// The proof replays what the controller will do with the CIRC as written: the TCP on the circle
+// through the written start, auxiliary and end points (to the printed decimals), at a constant
+// pace in angle; the orientation turned from the start's to the end's at the same pace
+// ($ORI_TYPE #VAR, $CIRC_TYPE #BASE, which the set sets); the external axes linear in the same
+// parameter. At every sample the arm is solved in closed form for the start's posture (KUKA
+// keeps Status during a CP motion), and it must stay within its limits without a jump, reach the
+// tracked end posture, and the path must stay within the chordal tolerance of the CL arc.
+#include <algorithm>
+#include <cmath>
+
+#include "post/session_impl.hpp"
+#include "redpost/io/error.hpp"
+
+namespace redpost {
+
+namespace {
+
+// Rounds every coordinate as the writer prints it.
+Eigen::Vector3d printed(const Eigen::Vector3d& p, int decimals) {
+  const double f = std::pow(10.0, decimals);
+  return Eigen::Vector3d(std::round(p.x() * f) / f, std::round(p.y() * f) / f,
+                         std::round(p.z() * f) / f);
+}
+
+// The circle through three points: centre, unit normal (by the order a -> b -> c), radius and
+// the angle from a to c through b. False if they are (nearly) on one line.
+struct Circle {
+  Eigen::Vector3d centre, normal, u, v;
+  double radius = 0.0, sweep = 0.0;
+  Eigen::Vector3d at(double s) const {
+    const double phi = s * sweep;
+    return centre + radius * (std::cos(phi) * u + std::sin(phi) * v);
+  }
+};
+
+bool circle_through(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                    Circle& out) {
+  const Eigen::Vector3d ab = b - a, ac = c - a;
+  const Eigen::Vector3d n = ab.cross(ac);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 1e-12))
+    return false;
+  out.centre = a + (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) / (2.0 * n2);
+  out.normal = n / std::sqrt(n2);
+  out.radius = (a - out.centre).norm();
+  out.u = (a - out.centre) / out.radius;
+  out.v = out.normal.cross(out.u);
+  const Eigen::Vector3d rc = c - out.centre;
+  double phi = std::atan2(rc.dot(out.v), rc.dot(out.u));
+  if (phi <= 0.0)
+    phi += 2.0 * kPi;  // from a through b (positive sense about n) to c
+  out.sweep = phi;
+  return true;
+}
+
+}  // namespace
+
+const ArmIk* PostSession::Impl::arm_ik_for_active(std::string& why) {
+  if (arm_ik_cell != active_cell) {
+    arm_ik.reset();
+    arm_ik_cell = active_cell;
+    try {
+      arm_ik = std::make_unique<ArmIk>(*active_cell);
+    } catch (const Error& e) {
+      arm_ik_problem = e.message();
+    }
+  }
+  if (!arm_ik)
+    why = "the arm cannot be replayed in closed form (" + arm_ik_problem + ")";
+  return arm_ik.get();
+}
+
+Isometry PostSession::Impl::physical_tcp_fk(const JointVector& q) {
+  q_physical = q;
+  for (int i = 0; i < active_cell->size(); ++i) {
+    if (active_cell->joint(i).type == JointType::virtual_spin)
+      q_physical[i] = 0.0;
+  }
+  forward_kinematics(*active_cell, q_physical, data);
+  return data.T_B_tcp;
+}
+
+bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector& q1,
+                                       const detail::ArcChords& arc, std::string& why) {
+  const ArmIk* ik = arm_ik_for_active(why);
+  if (!ik)
+    return false;
+  const int decimals = templates_position_decimals;
+  const Isometry T_base_B = o.T_B_base.inverse();
+  const Isometry T0 = physical_tcp_fk(q0), T1 = physical_tcp_fk(q1);
+  // The three points as the controller reads them, in $BASE.
+  const Eigen::Vector3d mid_cl =
+      arc.centre +
+      arc.r0 * (std::cos(0.5 * arc.sweep_rad) * arc.u + std::sin(0.5 * arc.sweep_rad) * arc.v) +
+      arc.h0 * arc.axis;
+  const Eigen::Vector3d a = printed(T_base_B * T0.translation(), decimals);
+  const Eigen::Vector3d b = printed(T_base_B * (o.T_B_part * mid_cl), decimals);
+  const Eigen::Vector3d c = printed(T_base_B * T1.translation(), decimals);
+  Circle path;
+  if (!circle_through(a, b, c, path)) {
+    why = "its start, middle and end points lie on one line";
+    return false;
+  }
+  const Eigen::Quaterniond r0(T0.linear()), r1(T1.linear());
+  const Isometry T_part_base = o.T_B_part.inverse() * o.T_B_base;
+  const int status = status_turn(*active_cell, ik->status_model(), q0).status;
+  const double length = path.radius * path.sweep;
+  const int samples = std::clamp(
+      static_cast<int>(std::ceil(std::max(path.sweep * 180.0 / kPi / 2.0, length / 1.0))), 16,
+      4000);
+  JointVector q_prev = q0, q_other = q0;
+  for (int k = 1; k <= samples; ++k) {
+    const double s = static_cast<double>(k) / samples;
+    // The CL arc: the controller's circle must stay within the chordal tolerance of it.
+    const Eigen::Vector3d p_cl = T_part_base * path.at(s);
+    const Eigen::Vector3d rel = p_cl - arc.centre;
+    const double h = rel.dot(arc.axis) - arc.h0;
+    const double radial = (rel - rel.dot(arc.axis) * arc.axis).norm() - arc.r0;
+    if (std::hypot(h, radial) > o.chordal_tolerance_mm) {
+      why = fmt::format("the controller's circle leaves the CL arc by {:.4f} mm",
+                        std::hypot(h, radial));
+      return false;
+    }
+    for (int i = 0; i < active_cell->size(); ++i) {
+      const Joint& j = active_cell->joint(i);
+      q_other[i] = j.type == JointType::virtual_spin ? 0.0 : q0[i] + s * (q1[i] - q0[i]);
+    }
+    Isometry T = Isometry::Identity();
+    T.linear() = r0.slerp(s, r1).toRotationMatrix();
+    T.translation() = o.T_B_base * path.at(s);
+    const ArmIkSolutions sol = ik->solve(T, q_other, &q_prev);
+    if (!sol.valid[static_cast<size_t>(status)]) {
+      why = fmt::format("at {:.0f} % of the arc the arm cannot keep its posture within the limits",
+                        100.0 * s);
+      return false;
+    }
+    const JointVector& q = sol.q[static_cast<size_t>(status)];
+    for (int m = 0; m < 6; ++m) {
+      const int i = ik->arm_joints()[static_cast<size_t>(m)];
+      if (std::fabs(q[i] - q_prev[i]) > deg_to_rad(10.0)) {
+        why = fmt::format("A{} would jump by {:.1f} deg at {:.0f} % of the arc", m + 1,
+                          rad_to_deg(std::fabs(q[i] - q_prev[i])), 100.0 * s);
+        return false;
+      }
+    }
+    q_prev = q;
+  }
+  for (int m = 0; m < 6; ++m) {
+    const int i = ik->arm_joints()[static_cast<size_t>(m)];
+    if (std::fabs(q_prev[i] - q1[i]) > deg_to_rad(0.01)) {
+      why = fmt::format(
+          "the controller would end the arc with A{} {:.3f} deg from the tracked "
+          "posture",
+          m + 1, rad_to_deg(std::fabs(q_prev[i] - q1[i])));
+      return false;
+    }
+  }
+  return true;
+}
+
+// Tracks the arc's chords without writing them, proves the CIRC and writes it. False (tracker
+// and summary as before the arc) when the CIRC is not safe: the caller writes the chords.
+bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vector3d& tool_axis,
+                                 int cl_line) {
+  const Tracker saved_tracker = tracker;
+  const TcpTarget saved_target = last_target;
+  const long saved_poses = summary.poses;
+  const std::vector<JointRange> saved_ranges = summary.joints;
+  const double saved_lowest = summary.lowest_inv_condition;
+  const int saved_lowest_line = summary.lowest_inv_condition_line;
+  const JointVector q0 = tracker.q();
+  if (std::isnan(feed_mm_per_min))
+    return false;  // the chords give the warning of a move before any FEDRAT
+  for (long k = 1; k <= arc.chords; ++k) {
+    const TcpTarget chord = target_in_B(arc.point(k), tool_axis, cl_line);
+    track_line(chord, cl_line, false);
+    last_target = chord;
+  }
+  std::string why;
+  if (!circ_replay_ok(q0, tracker.q(), arc, why)) {
+    tracker = saved_tracker;
+    last_target = saved_target;
+    summary.poses = saved_poses;
+    summary.joints = saved_ranges;
+    summary.lowest_inv_condition = saved_lowest;
+    summary.lowest_inv_condition_line = saved_lowest_line;
+    if (circ_fallbacks++ < 20) {
+      summary.warnings.push_back(fmt::format(
+          "{}:{}: the arc is written as chords, not as a CIRC: {}", o.source_name, cl_line, why));
+    }
+    return false;
+  }
+  writer.velocity(feed_mm_per_min / 60000.0);
+  const Eigen::Vector3d mid_cl =
+      arc.centre +
+      arc.r0 * (std::cos(0.5 * arc.sweep_rad) * arc.u + std::sin(0.5 * arc.sweep_rad) * arc.v) +
+      arc.h0 * arc.axis;
+  KrlMotion aux;
+  aux.T_base_tcp = Isometry::Identity();
+  aux.T_base_tcp.translation() = o.T_B_base.inverse() * (o.T_B_part * mid_cl);
+  const JointVector& q1 = tracker.q();
+  const KrlMotion end = motion_at(KrlMotionKind::lin, q1, cl_line);
+  writer.circ(aux, end);
+  after_write(end, q1);
+  last_target = target_in_B(arc.end, tool_axis, cl_line);
+  remember_cl(arc.end, tool_axis);
+  return true;
+}
+
+}  // namespace redpost
