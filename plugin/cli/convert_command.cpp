@@ -41,9 +41,9 @@ struct ConvertOptions {
   std::string tool = "TOOL_DATA[1]";
   std::string tools_path;  // --tools: a tool table file
   std::string msys = "ignore";
-  double clearance_z_mm = std::numeric_limits<double>::quiet_NaN();
+  std::string clearance;  // --clearance Z (mm); empty: none
   double rapid_velocity_m_per_s = 0.25;
-  long max_bytes = 0;
+  long max_bytes = -1;  // -1: not given
   double apo_mm = 0.5;
   int split = 0;
   int cl_line_every = 50;
@@ -178,10 +178,23 @@ int run_convert(const ConvertOptions& opt) {
   o.source_name = opt.input.c_str();
   o.base = opt.base.empty() ? nullptr : opt.base.c_str();
   o.tools_path = opt.tools_path.empty() ? nullptr : opt.tools_path.c_str();
-  o.has_clearance = std::isnan(opt.clearance_z_mm) ? 0 : 1;
-  o.clearance_z_mm = opt.clearance_z_mm;
+  if (!opt.clearance.empty()) {
+    char* end = nullptr;
+    o.clearance_z_mm = std::strtod(opt.clearance.c_str(), &end);
+    if (end == opt.clearance.c_str() || *end != '\0' || !std::isfinite(o.clearance_z_mm)) {
+      throw BadArgument{"--clearance '" + opt.clearance +
+                        "': the clearance height is not a finite number of mm"};
+    }
+    o.has_clearance = 1;
+  }
   o.rapid_velocity_m_per_s = opt.rapid_velocity_m_per_s;
-  o.max_file_bytes = opt.max_bytes;
+  if (opt.max_bytes != -1 && opt.max_bytes < 16 * 1024) {
+    throw BadArgument{
+        fmt::format("--max-bytes {}: a program file must be allowed more; the byte "
+                    "limit must be at least 16384 (16 KiB)",
+                    opt.max_bytes)};
+  }
+  o.max_file_bytes = opt.max_bytes == -1 ? 0 : opt.max_bytes;
   o.tool = opt.tool.c_str();
   o.has_placement = opt.placement.empty() ? 0 : 1;
   std::copy(placement, placement + 6, o.placement);
@@ -289,7 +302,7 @@ Runner add_convert_command(CLI::App& app) {
                 "What NX's MSYS means: ignore (the MCS is the workpiece frame; default) or apply "
                 "(the CL data turned into NX's absolute frame)")
       ->check(CLI::IsMember({"ignore", "apply"}));
-  c->add_option("--clearance", opt->clearance_z_mm,
+  c->add_option("--clearance", opt->clearance,
                 "Clearance height (mm, z in the CL frame): above it a rapid may be a PTP; below "
                 "it, and everywhere without it, rapids are straight LINs");
   c->add_option("--rapid-vel", opt->rapid_velocity_m_per_s,

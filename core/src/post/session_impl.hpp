@@ -61,7 +61,8 @@ struct PostSession::Impl {
 
   // Tools (tools.cpp).
   int tool_number = -1;  // the active CL tool, -1 before any tool change
-  double first_length_mm = std::numeric_limits<double>::quiet_NaN();  // without a reference
+  double active_length_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: the cell's TCP
+  double first_length_mm = std::numeric_limits<double>::quiet_NaN();   // without a reference
   int first_length_line = 0;
 
   // CIRC (circ.cpp): the arm's closed-form IK on the active cell, for the replay of a CIRC.
@@ -117,7 +118,7 @@ struct PostSession::Impl {
   // --- tools.cpp -----------------------------------------------------------------------------
   void tool_change(int number, const std::string& name, double length_mm, int cl_line);
   void use_tool_cell(int number, double length_mm, int cl_line);
-  void retract_for_tool_change(int cl_line);
+  void retract_for_tool_change(int cl_line, double longer_mm);
 };
 
 }  // namespace redpost

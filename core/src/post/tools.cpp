@@ -71,11 +71,20 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
   }
   change.tool = fmt::format("TOOL_DATA[{}]", change.tool_data);
 
+  // A longer tool would have its tip that much lower where the old one stopped: the old tool
+  // first backs off along its axis by the difference (and up to the clearance plane).
+  const double old_length =
+      std::isnan(active_length_mm) ? cell.tools.reference_length_mm : active_length_mm;
+  const double new_length = length_mm > 0.0 ? length_mm : cell.tools.reference_length_mm;
+  const double longer = std::isfinite(old_length) && std::isfinite(new_length)
+                            ? std::max(0.0, new_length - old_length)
+                            : 0.0;
   if (started)
-    retract_for_tool_change(cl_line);
+    retract_for_tool_change(cl_line, longer);
   writer.tool_change(change);
   use_tool_cell(number, length_mm, cl_line);
   tool_number = number;
+  active_length_mm = new_length;
 }
 
 // The tracker on the TCP of a tool `length_mm` long (0: unknown, the cell's own TCP).
@@ -119,18 +128,21 @@ void PostSession::Impl::use_tool_cell(int number, double length_mm, int cl_line)
     approach_pending = true;
 }
 
-// Before a tool change the tool leaves the part along its own axis up to the clearance plane
-// (where one is known and the tool is below it): a straight move the CL data imply, since the
-// tool came in along that axis.
-void PostSession::Impl::retract_for_tool_change(int cl_line) {
-  const std::optional<ClearancePlane> plane = plane_for(nullptr);
-  if (!plane)
+// Before a tool change the tool leaves the part along its own axis, a straight move the CL data
+// imply since the tool came in along that axis: up to the clearance plane where one is known and
+// the tool is below it, and further by `longer_mm`, how much longer the next tool is, so that
+// the new tip starts where the old one would have been.
+void PostSession::Impl::retract_for_tool_change(int cl_line, double longer_mm) {
+  double distance = longer_mm;
+  if (const std::optional<ClearancePlane> plane = plane_for(nullptr)) {
+    const double h = plane->height(last_cl_point);
+    const double rise = plane->normal.dot(last_cl_axis);
+    if (h < 0.0 && rise > 0.1)
+      distance += -h / rise;
+  }
+  if (!(distance > 1e-6))
     return;
-  const double h = plane->height(last_cl_point);
-  const double rise = plane->normal.dot(last_cl_axis);
-  if (h >= 0.0 || rise <= 0.1)
-    return;
-  const Eigen::Vector3d up = last_cl_point + (-h / rise) * last_cl_axis;
+  const Eigen::Vector3d up = last_cl_point + distance * last_cl_axis;
   writer.velocity(o.rapid_velocity_m_per_s);
   const TcpTarget target = target_in_B(up, last_cl_axis, cl_line);
   track_line(target, cl_line, false);

@@ -1,0 +1,466 @@
+// Programs a cell can run safely (issue 16), checked against what the written program and the
+// joints log say, independently of the session's own figures: tools (FK of the flange), rapids
+// (a brute-force joint interpolation of every PTP through FK), cycles, the coupled base, MSYS
+// messages, the byte budget, CIRC (the circle through the written points against the CL arc)
+// and the statements passed through.
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "catch_compat.hpp"
+#include "redpost/cl/reader.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/io/text_file.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/kuka_abc.hpp"
+#include "redpost/kinematics/tool_table.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/post/session.hpp"
+#include "temp_dir.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kCell = "andres2011_kr15_track_table";
+
+struct Run {
+  std::string src;                     // the main .src
+  std::vector<std::vector<double>> q;  // the joints log, chain order (DH units)
+  PostSummary summary;
+};
+
+struct RunOptions {
+  std::string templates = "krc4_lin";
+  std::string cell = kCell;
+  double clearance_z_mm = std::numeric_limits<double>::quiet_NaN();
+  ToolTable tools;
+  long max_file_bytes = 0;
+  bool arcs_as_events = false;
+  double chordal_tolerance_mm = 0.01;
+  MsysMode msys = MsysMode::ignore;
+  std::string name = "PROG";
+};
+
+// Converts CL text as `redpost convert` does (reader -> session), into `dir`.
+Run run(const std::string& cl, const fs::path& dir, const RunOptions& ro = {}) {
+  const Cell cell = test::shipped_cell(ro.cell);
+  const KrlTemplateSet set =
+      load_krl_templates(test::source_path("definitions/krl/" + ro.templates + ".xml"));
+  const fs::path input = dir / "part.apt";
+  std::ofstream(input) << cl;
+  PostOptions o;
+  o.program.name = ro.name;
+  o.program.output_dir = dir.string();
+  o.program.max_file_bytes = ro.max_file_bytes;
+  o.program.base = "BASE_DATA[1]";
+  o.source_name = input.string();
+  o.joints_csv_path = (dir / "joints.csv").string();
+  o.clearance_z_mm = ro.clearance_z_mm;
+  o.tools = ro.tools;
+  o.chordal_tolerance_mm = ro.chordal_tolerance_mm;
+  std::ifstream in = open_text_stream(input.string());
+  ClReaderOptions read;
+  read.arcs_as_events = ro.arcs_as_events;
+  read.chordal_tolerance_mm = ro.chordal_tolerance_mm;
+  read.msys = ro.msys;
+  ClReader reader(in, input.string(), read);
+  PostSession session(cell, set, o);
+  ClEvent e;
+  while (reader.next(e))
+    session.handle(e);
+  Run out;
+  out.summary = session.finish();
+  out.src = read_text_file((dir / (ro.name + ".src")).string());
+  std::ifstream csv(dir / "joints.csv");
+  std::string line;
+  std::getline(csv, line);
+  while (std::getline(csv, line)) {
+    for (char& c : line)
+      c = c == ',' ? ' ' : c;
+    std::istringstream s(line);
+    int pose = 0, cl_line = 0;
+    s >> pose >> cl_line;
+    std::vector<double> q(static_cast<size_t>(cell.size()));
+    for (double& v : q)
+      s >> v;
+    out.q.push_back(q);
+  }
+  return out;
+}
+
+JointVector to_q(const Cell& cell, const std::vector<double>& v) {
+  JointVector q = cell.home();
+  for (int i = 0; i < cell.size(); ++i)
+    q[i] = v[static_cast<size_t>(i)];
+  return q;
+}
+
+// The motion statements of a program, in order: the keyword of each.
+std::vector<std::string> motion_keywords(const std::string& src) {
+  std::vector<std::string> out;
+  static const std::regex motion(R"((^|\n)(PTP|LIN|SLIN|CIRC) )");
+  for (auto it = std::sregex_iterator(src.begin(), src.end(), motion); it != std::sregex_iterator();
+       ++it)
+    out.push_back((*it)[2]);
+  return out;
+}
+
+// The lowest TCP height (z in the part frame, which is {B} here) along the joint-space line
+// from q0 to q1, sampled every 0.1 deg / 0.1 mm of the largest joint move: what a synchronous
+// PTP does between the two postures.
+double lowest_z_along(const Cell& cell, const JointVector& q0, const JointVector& q1) {
+  double largest = 0.0;
+  for (int i = 0; i < cell.size(); ++i) {
+    const double d = std::fabs(q1[i] - q0[i]);
+    largest = std::max(largest,
+                       cell.joint(i).type == JointType::prismatic ? d / 0.1 : rad_to_deg(d) / 0.1);
+  }
+  const int n = std::max(50, static_cast<int>(std::ceil(largest)));
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= n; ++k) {
+    JointVector q = q0;
+    for (int i = 0; i < cell.size(); ++i)
+      q[i] = q0[i] + (q1[i] - q0[i]) * k / n;
+    lowest = std::min(lowest, tcp_pose(cell, q).translation().z());
+  }
+  return lowest;
+}
+
+// A drilling job like the SolidWorks drill files: two tools, cycles with RAPTO 3 and RTRCTO
+// 25 over holes on the part's top at z = 0.
+std::string drill_job(double length1_mm, double length2_mm) {
+  return "UNITS/MM\n"
+         "CUTTER/14.,0,7.,4.2,31.,0," +
+         std::to_string(length1_mm) +
+         "\n"
+         "LOAD/TOOL,15\n"
+         "SPINDL/4948,RPM,CLW\n"
+         "RAPID/\n"
+         "GOTO/-120.,-450.,25.\n"
+         "CYCLE/DRILL,FEDTO,7.85,MMPM,326.77,RAPTO,3.,RTRCTO,25.,DWELL,0.5\n"
+         "GOTO/-120.,-450.,0\n"
+         "GOTO/-90.,-450.,0\n"
+         "GOTO/-60.,-470.,0\n"
+         "CYCLE/OFF\n"
+         "CUTTER/6.7,0,3.35,2.0,31.,0," +
+         std::to_string(length2_mm) +
+         "\n"
+         "LOAD/TOOL,16\n"
+         "SPINDL/5155,RPM,CLW\n"
+         "RAPID/\n"
+         "GOTO/-120.,-450.,25.\n"
+         "CYCLE/DEEP2,FEDTO,20.,1STPECK,5.,SUBPECK,5.,MMPM,432.1,RAPTO,3.,RTRCTO,25.\n"
+         "GOTO/-120.,-450.,0\n"
+         "GOTO/-90.,-450.,0\n"
+         "CYCLE/OFF\n"
+         "FINI\n";
+}
+
+}  // namespace
+
+// --- tools ------------------------------------------------------------------------------------
+
+TEST_CASE(
+    "machine: the same hole with two tool lengths puts the flange exactly the difference "
+    "further along the tool axis (FK)",
+    "[machine]") {
+  const Cell cell = test::shipped_cell(kCell);
+  const std::string hole =
+      "UNITS/MM\nCUTTER/10.,0,5.,0,0,0,@L\nLOADTL/1\nRAPID/\nGOTO/-100.,-450.,40.\n"
+      "FEDRAT/300,MMPM\nGOTO/-100.,-450.,-5.\n";
+  std::vector<Eigen::Vector3d> flange;
+  for (double length : {69.0, 105.0}) {
+    test::TempDir dir;
+    std::string cl = hole;
+    cl.replace(cl.find("@L"), 2, std::to_string(length));
+    const Run r = run(cl, dir.path);
+    REQUIRE(!r.q.empty());
+    // The frame before the tool's spin: the spindle mount, on the tool axis.
+    KinematicsData data;
+    forward_kinematics(cell, to_q(cell, r.q.back()), data);
+    flange.push_back(data.T_B_link[static_cast<size_t>(cell.size() - 2)].translation());
+    // And the tool's own TCP (the chain's, moved by the length) is on the hole's bottom.
+    const Cell tool = cell_for_tool(cell, length);
+    const Isometry tcp = tcp_pose(tool, to_q(tool, r.q.back()));
+    CHECK((tcp.translation() - Eigen::Vector3d(-100, -450, -5)).norm() < 2e-4);
+    CHECK(tcp.linear().col(2).z() > 1.0 - 1e-9);
+  }
+  // The tool axis is +z: the longer tool's flange is 36 mm higher, nothing else.
+  CHECK((flange[1] - flange[0] - Eigen::Vector3d(0, 0, 36.0)).norm() < 1e-3);
+}
+
+TEST_CASE("machine: the drill job writes a $TOOL per CL tool, the coupled base and safe PTPs",
+          "[machine]") {
+  const Cell cell = test::shipped_cell(kCell);
+  test::TempDir dir;
+  const Run r = run(drill_job(69.0, 105.0), dir.path);
+  // Without a tool table CL tool n is TOOL_DATA[n], with a warning naming the line.
+  CHECK(r.src.find("$TOOL = TOOL_DATA[15]") != std::string::npos);
+  CHECK(r.src.find("$TOOL = TOOL_DATA[16]") != std::string::npos);
+  CHECK(r.src.find("HALT ; mount tool T16") != std::string::npos);
+  CHECK(r.src.find("$BASE = EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, BASE_DATA[1])") !=
+        std::string::npos);
+  CHECK(r.src.find("$ACT_EX_AX = 2") != std::string::npos);
+  CHECK(r.src.find("WAIT SEC 0.500") != std::string::npos);  // the first cycle's DWELL
+  int warned = 0;
+  for (const std::string& w : r.summary.warnings)
+    warned += w.find("no tool table, so TOOL_DATA[1") != std::string::npos;
+  CHECK(warned == 2);
+
+  // Every PTP after the first motion, interpolated in joint space (brute force, FK of the
+  // tool's own TCP): the tool never goes below the cycles' clearance plane z = 3 on a PTP, let
+  // alone into the part (top z = 0).
+  const Cell tool15 = cell_for_tool(cell, 69.0), tool16 = cell_for_tool(cell, 105.0);
+  std::istringstream lines(r.src);
+  std::string line;
+  const Cell* tool = &tool15;
+  bool after_change = false;
+  size_t k = 0;
+  int ptps = 0, lins_below = 0;
+  while (std::getline(lines, line)) {
+    if (line.find("$TOOL = TOOL_DATA[16]") == 0) {
+      tool = &tool16;
+      after_change = true;
+    }
+    const bool ptp = line.rfind("PTP ", 0) == 0, lin = line.rfind("LIN ", 0) == 0;
+    if (!ptp && !lin)
+      continue;
+    REQUIRE(k < r.q.size());
+    if (k > 0 && ptp && !after_change) {
+      ++ptps;
+      // The ends are where the tracker put them, within its 1e-4 mm.
+      CHECK(lowest_z_along(*tool, to_q(*tool, r.q[k - 1]), to_q(*tool, r.q[k])) >= 3.0 - 2e-4);
+    }
+    if (lin && tcp_pose(*tool, to_q(*tool, r.q[k])).translation().z() < 3.0 - 1e-6)
+      ++lins_below;  // the feeds into the holes and the retracts out of them
+    // The approach after the tool change starts at the changer, not at the last hole.
+    after_change = after_change && !ptp;
+    ++k;
+  }
+  CHECK(k == r.q.size());
+  CHECK(ptps >= 8);
+  CHECK(lins_below >= 10);
+}
+
+TEST_CASE(
+    "machine: a tool table maps tools, warns on a length that disagrees, refuses a "
+    "missing tool with its line",
+    "[machine]") {
+  test::TempDir dir;
+  const fs::path table = dir.path / "tools.xml";
+  std::ofstream(table) << "<tool-table>\n"
+                          "  <tool number=\"15\" data=\"3\" length=\"70\" name=\"centre drill\"/>\n"
+                          "  <tool number=\"16\" data=\"4\" length=\"105\"/>\n"
+                          "</tool-table>\n";
+  RunOptions ro;
+  ro.tools = load_tool_table(table.string());
+  const Run r = run(drill_job(69.0, 105.0), dir.path, ro);
+  CHECK(r.src.find("$TOOL = TOOL_DATA[3]") != std::string::npos);
+  CHECK(r.src.find("$TOOL = TOOL_DATA[4]") != std::string::npos);
+  // SolidWorks CAM names no tool on LOAD/TOOL: the table's name is written.
+  CHECK(r.src.find("; TOOL CHANGE: T15 centre drill") != std::string::npos);
+  bool mismatch = false;
+  for (const std::string& w : r.summary.warnings) {
+    mismatch = mismatch || (w.find("part.apt:3: tool 15: the CL file gives a length of 69.000 mm, "
+                                   "the tool table (") != std::string::npos &&
+                            w.find("tools.xml:2) 70.000 mm") != std::string::npos);
+  }
+  CHECK(mismatch);
+
+  std::ofstream(table) << "<tool-table>\n  <tool number=\"15\" data=\"3\" length=\"70\"/>\n"
+                          "</tool-table>\n";
+  ro.tools = load_tool_table(table.string());
+  test::TempDir failed;
+  try {
+    run(drill_job(69.0, 105.0), failed.path, ro);
+    FAIL("tool 16 was accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::bad_input);
+    CHECK(e.where().line == 13);  // LOAD/TOOL,16
+    CHECK(e.message().find("tool 16 is not in the tool table of") != std::string::npos);
+  }
+  for (const auto& e : fs::directory_iterator(failed.path))
+    CHECK(e.path().extension() != ".src");
+}
+
+// --- rapids -----------------------------------------------------------------------------------
+
+TEST_CASE("machine: without a clearance every rapid is a straight LIN; with one, PTP above it",
+          "[machine]") {
+  const std::string cl =
+      "UNITS/MM\nLOADTL/1\nRAPID/\nGOTO/-120.,-440.,110.\nRAPID/\nGOTO/-120.,-440.,62.\n"
+      "FEDRAT/200,MMPM\nGOTO/-120.,-440.,57.\nGOTO/-72.,-480.,57.\nRAPID/\nGOTO/-72.,-480.,110.\n"
+      "RAPID/\nGOTO/-150.,-420.,110.\n";
+  test::TempDir a, b;
+  const Run none = run(cl, a.path);
+  CHECK(motion_keywords(none.src) ==
+        std::vector<std::string>{"PTP", "LIN", "LIN", "LIN", "LIN", "LIN"});
+  RunOptions ro;
+  ro.clearance_z_mm = 100.0;
+  const Run with = run(cl, b.path, ro);
+  // 110 -> 62 crosses z = 100: PTP to the plane, LIN below it; 57 -> 110 likewise upwards; the
+  // last rapid stays above the plane: one PTP.
+  CHECK(motion_keywords(with.src) ==
+        std::vector<std::string>{"PTP", "PTP", "LIN", "LIN", "LIN", "LIN", "PTP", "PTP"});
+  const Cell cell = test::shipped_cell(kCell);
+  const std::vector<std::string> kinds = motion_keywords(with.src);
+  for (size_t k = 1; k < kinds.size(); ++k) {
+    if (kinds[k] == "PTP")
+      CHECK(lowest_z_along(cell, to_q(cell, with.q[k - 1]), to_q(cell, with.q[k])) >= 100.0 - 1e-6);
+  }
+  CHECK(with.src.find("$VEL.CP = 0.250000") != std::string::npos);  // the rapid LINs' speed
+}
+
+// --- messages, MSYS ---------------------------------------------------------------------------
+
+TEST_CASE(
+    "machine: an unreachable first pose names --placement, the MSYS when it is z-down, and "
+    "track and table only where the cell has them",
+    "[machine]") {
+  const std::string cl = "TOOL PATH/OP,TOOL,T\nMSYS/0,0,0,0,1,0,1,0,0\nGOTO/0,0,-3000,0,0,-1\n";
+  test::TempDir a, b;
+  try {
+    run(cl, a.path);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    INFO(e.what());
+    CHECK(e.message().find("--placement") != std::string::npos);
+    CHECK(e.message().find("track and table") != std::string::npos);
+    CHECK(e.message().find("MSYS (line 2)") != std::string::npos);
+    CHECK(e.message().find("--msys apply") != std::string::npos);
+  }
+  RunOptions kr15;
+  kr15.cell = "kr15_2";
+  try {
+    run("GOTO/0,0,-9000\n", b.path, kr15);
+    FAIL("accepted");
+  } catch (const Error& e) {
+    INFO(e.what());
+    CHECK(e.message().find("--placement") != std::string::npos);
+    CHECK(e.message().find("track") == std::string::npos);
+    CHECK(e.message().find("table") == std::string::npos);
+    CHECK(e.message().find("MSYS") == std::string::npos);
+  }
+}
+
+// --- program size -----------------------------------------------------------------------------
+
+TEST_CASE(
+    "machine: a program over the byte budget is split into parts within it, each running "
+    "alone",
+    "[machine]") {
+  std::string cl = "UNITS/MM\nLOADTL/1\nFEDRAT/600,MMPM\nGOTO/-150.,-450.,40.\n";
+  for (int k = 0; k < 600; ++k)
+    cl += "GOTO/" + std::to_string(-150.0 + 0.2 * k) + ",-450.," + (k % 2 ? "40." : "39.") + "\n";
+  test::TempDir dir;
+  RunOptions ro;
+  ro.max_file_bytes = 16 * 1024;
+  const Run r = run(cl, dir.path, ro);
+  int parts = 0;
+  for (const auto& e : fs::directory_iterator(dir.path)) {
+    if (e.path().extension() != ".src")
+      continue;
+    INFO(e.path());
+    CHECK(fs::file_size(e.path()) <= static_cast<std::uintmax_t>(ro.max_file_bytes));
+    parts += e.path().stem().string().rfind("PROG_P", 0) == 0;
+  }
+  CHECK(parts >= 3);
+  CHECK(r.src.find("PROG_P001( )") != std::string::npos);
+  // Every part starts with the tool and a PTP to the full posture.
+  const std::string p2 = read_text_file((dir.path / "PROG_P002.src").string());
+  CHECK(p2.find("$TOOL = TOOL_DATA[1]") < p2.find("PTP {E6AXIS"));
+  // The whole program has every motion once: parts' motions minus their restating PTPs.
+  size_t motions = 0;
+  for (int p = 1; p <= parts; ++p) {
+    const std::string text =
+        read_text_file((dir.path / ("PROG_P00" + std::to_string(p) + ".src")).string());
+    motions += motion_keywords(text).size() - (p > 1 ? 1 : 0);
+  }
+  CHECK(motions == r.q.size());
+
+  ro.max_file_bytes = 100;
+  CHECK_THROWS_WITH(run(cl, dir.path, ro), Catch::Contains("must be at least 16384"));
+  ro.max_file_bytes = 16 * 1024;
+  ro.name = "A_NAME_OF_22_CHARACTERS";
+  CHECK_THROWS_WITH(run(cl, dir.path, ro), Catch::Contains("must be split, but its name"));
+}
+
+// --- CIRC -------------------------------------------------------------------------------------
+
+TEST_CASE(
+    "machine: arcs become CIRCs whose circle through the written points stays on the CL "
+    "arc; arcs that cannot be proven stay chords",
+    "[machine]") {
+  const std::string cl = read_text_file(test::source_path("examples/cl/pocket_arcs.apt"));
+  test::TempDir dir;
+  RunOptions ro;
+  ro.templates = "krc4_circ";
+  ro.arcs_as_events = true;
+  const Run r = run(cl, dir.path, ro);
+  // Each CIRC: start (the motion before), auxiliary and end point as printed; their circle must
+  // have the CL arc's radius 12 mm and its centre on the arc's axis (independent of redpost).
+  static const std::regex circ(
+      R"(CIRC \{X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+)\}, \{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
+  static const std::regex any(R"(\{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
+  int circs = 0;
+  for (auto it = std::sregex_iterator(r.src.begin(), r.src.end(), circ);
+       it != std::sregex_iterator(); ++it) {
+    const size_t here = static_cast<size_t>(it->position());
+    // The start: the last E6POS before this CIRC.
+    const std::string before = r.src.substr(0, here);
+    Eigen::Vector3d a;
+    for (auto jt = std::sregex_iterator(before.begin(), before.end(), any);
+         jt != std::sregex_iterator(); ++jt)
+      a = Eigen::Vector3d(std::stod((*jt)[1]), std::stod((*jt)[2]), std::stod((*jt)[3]));
+    const Eigen::Vector3d b(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
+    const Eigen::Vector3d c(std::stod((*it)[4]), std::stod((*it)[5]), std::stod((*it)[6]));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const Eigen::Vector3d centre =
+        a + ((c - a).squaredNorm() * n.cross(b - a) + (b - a).squaredNorm() * (c - a).cross(n)) /
+                (2.0 * n.squaredNorm());
+    CHECK((a - centre).norm() == Approx(12.0).margin(0.01));
+    CHECK(std::fabs(n.normalized().z()) > 1.0 - 1e-6);  // in the pocket's plane
+    ++circs;
+  }
+  CHECK(circs == 8);  // every arc of the pocket
+  CHECK(motion_keywords(r.src).size() == r.q.size());
+
+  // A chordal tolerance finer than the printed decimals cannot be proven: chords, with a note.
+  test::TempDir fine;
+  ro.chordal_tolerance_mm = 0.0002;
+  const Run chords = run(cl, fine.path, ro);
+  CHECK(chords.src.find("\nCIRC ") == std::string::npos);
+  bool noted = false;
+  for (const std::string& w : chords.summary.warnings)
+    noted = noted || w.find("written as chords, not as a CIRC") != std::string::npos;
+  CHECK(noted);
+}
+
+// --- statements passed through ----------------------------------------------------------------
+
+TEST_CASE("machine: INSERT/KRL: passes a checked statement, free text never reaches the code",
+          "[machine]") {
+  test::TempDir dir;
+  const Run r =
+      run("UNITS/MM\nLOADTL/1\nINSERT/[HOLDER=C40] 14MM X 60DEG\nINSERT/KRL: $OUT[17] = TRUE\n"
+          "RAPID/\nGOTO/-120.,-440.,110.\n",
+          dir.path);
+  CHECK(r.src.find("\r\n; [HOLDER=C40] 14MM X 60DEG\r\n") != std::string::npos);
+  CHECK(r.src.find("\r\n$OUT[17] = TRUE\r\n") != std::string::npos);
+  test::TempDir bad;
+  try {
+    run("UNITS/MM\nINSERT/KRL: LIN {X 0}\nGOTO/-120.,-440.,110.\n", bad.path);
+    FAIL("a motion passed through");
+  } catch (const Error& e) {
+    CHECK(e.where().line == 2);
+    CHECK(e.message().find("cannot be passed to the KRL program") != std::string::npos);
+  }
+  for (const auto& e : fs::directory_iterator(bad.path))
+    CHECK(e.path().extension() != ".src");
+}
