@@ -442,6 +442,18 @@ TEST_CASE(
   CHECK(noted);
 }
 
+// --- the Caro cell ----------------------------------------------------------------------------
+
+TEST_CASE("machine: the Caro cell's TCP z points from the tip to the spindle, as in placement",
+          "[machine]") {
+  // At home the KR270-2 holds the spindle above the tool pointing down: the TCP z (the CL tool
+  // axis convention) must point up, as placement's F_Pi z (towards the robot) does.
+  const Cell cell = test::shipped_cell("caro2014_kr270_table");
+  CHECK(tcp_pose(cell, cell.home()).linear().col(2).z() > 0.99);
+  const Cell andres = test::shipped_cell(kCell);
+  CHECK(tcp_pose(andres, andres.home()).linear().col(2).z() > 0.5);
+}
+
 // --- statements passed through ----------------------------------------------------------------
 
 TEST_CASE("machine: INSERT/KRL: passes a checked statement, free text never reaches the code",
