@@ -85,6 +85,8 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
   use_tool_cell(number, length_mm, cl_line);
   tool_number = number;
   active_length_mm = new_length;
+  // After the change (a routine may take the robot to the changer) the next move is an approach.
+  approach_pending = started;
 }
 
 // The tracker on the TCP of a tool `length_mm` long (0: unknown, the cell's own TCP).
@@ -124,8 +126,6 @@ void PostSession::Impl::use_tool_cell(int number, double length_mm, int cl_line)
   tracker = Tracker(*active_cell, o.tracker);
   tracker.reset(q);
   spin_last = last_pure_spin(*active_cell);
-  if (started)
-    approach_pending = true;
 }
 
 // Before a tool change the tool leaves the part along its own axis, a straight move the CL data
