@@ -18,7 +18,7 @@ run convert "$SRC/examples/cl/pocket_arcs.apt" --cell "$cell" --krl krc4_spline 
   --name NAMED -q
 expect_rc 0
 grep -q '^SPLINE' "$TMP/named/NAMED.src" || fail "krc4_spline by name gave no SPLINE block"
-tclsh "$SRC/tcl/nx_replay.tcl" --lib "$(dirname "$BIN")" --cell "$cell" --krl krc4_spline \
+"${TCLSH:-tclsh}" "$SRC/tcl/nx_replay.tcl" --lib "$(dirname "$BIN")" --cell "$cell" --krl krc4_spline \
   -o "$TMP/replay" --name NAMED -q "$SRC/examples/cl/pocket_arcs.apt" >"$TMP/out" 2>"$TMP/err" ||
   fail "nx_replay --krl krc4_spline: $(cat "$TMP/err")"
 cmp -s "$TMP/named/NAMED.src" "$TMP/replay/NAMED.src" || fail "nx_replay and convert differ"
