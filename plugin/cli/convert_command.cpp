@@ -94,6 +94,63 @@ std::string joint_value_text(const rp_joint_range_info& j, double v) {
   return fmt::format(j.prismatic ? "{:.1f} mm" : "{:.2f} deg", v);
 }
 
+std::string duration_text(double s) {
+  if (s < 60.0)
+    return fmt::format("{:.1f} s", s);
+  const long minutes = static_cast<long>(s / 60.0);
+  if (minutes < 60)
+    return fmt::format("{} min {:.1f} s", minutes, s - 60.0 * minutes);
+  return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
+}
+
+// The time model (docs/timing.md): cycle time, the axes against their limits, and the
+// stretches where an axis keeps the feed below the CL file's.
+void print_timing(const rp_session* session) {
+  rp_timing t{};
+  t.struct_size = sizeof t;
+  if (rp_timing_get(session, &t) != RP_OK)
+    return;
+  std::string line = "cycle time " + duration_text(t.cycle_time_s);
+  if (t.feed_time_s > 0.0) {
+    line +=
+        fmt::format(" (cutting {}, {:+.1f} % on the CL feeds' {})", duration_text(t.cutting_time_s),
+                    100.0 * (t.cutting_time_s / t.feed_time_s - 1.0), duration_text(t.feed_time_s));
+  }
+  if (t.untimed_tool_changes > 0)
+    line += fmt::format(", without the time of {} tool change(s)", t.untimed_tool_changes);
+  fmt::print("{}\n", line);
+  if (!t.axis_speeds_known) {
+    fmt::print("axis speeds: not checked (the cell gives none)\n");
+    return;
+  }
+  rp_joint_range_info j{};
+  std::string peak_axis = "-";
+  if (t.peak_speed_joint >= 0 && rp_joint_range(session, t.peak_speed_joint, &j) == RP_OK)
+    peak_axis = std::string(j.axis_name) + " (" + j.name + ")";
+  fmt::print(
+      "axis speeds: at most {:.2f} of the limit ({}, CL line {}); {} motion(s) written "
+      "with a lower $VEL.CP\n",
+      t.peak_speed_fraction, peak_axis, t.peak_speed_line, t.slowed_motions);
+  if (t.feed_limits == 0)
+    return;
+  fmt::print("where an axis keeps the feed 5 % or more below the CL file's ({}):\n", t.feed_limits);
+  constexpr int kShown = 12;
+  for (int i = 0; i < t.feed_limits_listed && i < kShown; ++i) {
+    rp_feed_limit_info f{};
+    f.struct_size = sizeof f;
+    if (rp_feed_limit(session, i, &f) != RP_OK)
+      break;
+    const std::string lines = f.first_line == f.last_line
+                                  ? fmt::format("CL {}", f.first_line)
+                                  : fmt::format("CL {}-{}", f.first_line, f.last_line);
+    fmt::print("  {:<16} {:>3} {:<10} {:<18} {:.0f} of {:.0f} mm/min, {} motion(s)\n", lines,
+               f.axis_name, f.joint_name, f.limit, f.lowest_mm_per_min, f.asked_mm_per_min,
+               f.motions);
+  }
+  if (t.feed_limits > kShown)
+    fmt::print("  ... and {} more (all in the report, --report)\n", t.feed_limits - kShown);
+}
+
 void print_summary(const rp_session* session, double seconds) {
   rp_summary s{};
   rp_summary_get(session, &s);
@@ -109,6 +166,7 @@ void print_summary(const rp_session* session, double seconds) {
                joint_value_text(r, r.lowest) + " .. " + joint_value_text(r, r.highest),
                joint_value_text(r, r.margin_lower) + " / " + joint_value_text(r, r.margin_upper));
   }
+  print_timing(session);
   for (int i = 0; const char* f = rp_output_file(session, i); ++i)
     fmt::print("wrote {}\n", f);
 }

@@ -152,6 +152,10 @@ struct ConvertReport::Impl {
   // Against the motion index: one per joint (in controller units, deg or mm), then the rest.
   std::vector<rep::MinMaxDecimator> joint_values;
   rep::MinMaxDecimator inv_condition{kBuckets}, iterations{kBuckets}, feed{kBuckets};
+  // The time model: per joint the fraction of its velocity limit; path speeds in mm/min.
+  std::vector<rep::MinMaxDecimator> speed_fraction;
+  rep::MinMaxDecimator speed_reached{kBuckets}, speed_asked{kBuckets}, speed_written{kBuckets};
+  double last_time_s = 0.0;
   Toolpath path;
   double threshold = kNaN;
   long motions = 0;
@@ -175,6 +179,13 @@ struct ConvertReport::Impl {
     feed.push(x, m.feed_mm_per_min);
     threshold = m.conditioning_threshold;
     path.add(m.tcp, m.inv_condition);
+    for (std::size_t i = 0; i < joints.size(); ++i)
+      speed_fraction[i].push(x, i < 16 ? m.speed_fraction[i] : kNaN);
+    const bool cp = m.kind != RP_MOTION_PTP && m.kind != RP_MOTION_RAPID;
+    speed_reached.push(x, cp ? 60.0 * m.speed_mm_s : kNaN);
+    speed_asked.push(x, cp ? 60.0 * m.asked_mm_s : kNaN);
+    speed_written.push(x, cp ? 60.0 * m.command_mm_s : kNaN);
+    last_time_s = m.time_s;
   }
 
   static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
@@ -195,6 +206,7 @@ ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>
     }
     impl_->joints.push_back(std::move(j));
     impl_->joint_values.emplace_back(kBuckets);
+    impl_->speed_fraction.emplace_back(kBuckets);
   }
   if (rp_set_motion_observer(session, &Impl::observe, impl_.get()) != RP_OK) {
     throw Error(ErrorCode::internal,
@@ -397,6 +409,99 @@ void add_solver_and_feed_section(rep::HtmlReport& r, const ConvertReport::Impl& 
   r.add_plot(std::move(fp));
 }
 
+std::string duration_text(double s) {
+  if (s < 60.0)
+    return fmt::format("{:.1f} s", s);
+  const long minutes = static_cast<long>(s / 60.0);
+  if (minutes < 60)
+    return fmt::format("{} min {:.1f} s", minutes, s - 60.0 * minutes);
+  return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
+}
+
+// The time model (docs/timing.md): cycle time, every axis's speed against its limit along the
+// path, the path speed against the feed, and where an axis keeps the feed low.
+void add_speed_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
+                       const rp_session* session) {
+  r.add_section("Axis speeds and cycle time");
+  rp_timing t{};
+  t.struct_size = sizeof t;
+  if (rp_timing_get(session, &t) != RP_OK)
+    return;
+  std::string text = "Cycle time " + duration_text(t.cycle_time_s);
+  if (t.feed_time_s > 0.0) {
+    text += fmt::format(
+        "; the cutting moves take {} where the CL feeds alone would take {} "
+        "({:+.1f} %)",
+        duration_text(t.cutting_time_s), duration_text(t.feed_time_s),
+        100.0 * (t.cutting_time_s / t.feed_time_s - 1.0));
+  }
+  text +=
+      ". Trapezoidal profile along the path within every axis's velocity and acceleration "
+      "limits, as docs/timing.md describes.";
+  if (t.untimed_tool_changes > 0)
+    text += fmt::format(" The {} tool change(s) are not timed.", t.untimed_tool_changes);
+  r.add_paragraph(text);
+  if (!t.axis_speeds_known) {
+    r.add_warning("The cell gives no axis speeds: they were not checked.");
+    return;
+  }
+  if (t.slowed_motions > 0) {
+    r.add_warning(fmt::format(
+        "{} motion(s) written with a $VEL.CP below the asked speed, so that no axis passes its "
+        "velocity limit.",
+        t.slowed_motions));
+  }
+  rep::LinePlot sp;
+  sp.title = "Axis speeds as a fraction of their velocity limits (highest in each motion)";
+  sp.x = motion_axis(d.motions);
+  sp.y = rep::make_axis("speed / limit", "1");
+  sp.y.min = 0.0;
+  sp.y.max = 1.1;
+  sp.hlines.push_back(hline(1.0, "velocity limit"));
+  for (std::size_t i = 0; i < d.joints.size(); ++i) {
+    if (d.joints[i].axis == "none")
+      continue;
+    sp.series.push_back(series_of(d.joints[i].label(), d.speed_fraction[i].result()));
+  }
+  r.add_plot(std::move(sp));
+
+  rep::LinePlot vp;
+  vp.title = "Path speed of the CP motions: asked, written ($VEL.CP) and reached";
+  vp.x = motion_axis(d.motions);
+  vp.y = rep::make_axis("speed", "mm/min");
+  vp.y.min = 0.0;
+  vp.series.push_back(series_of("asked (feed or rapid)", d.speed_asked.result()));
+  vp.series.push_back(series_of("$VEL.CP written", d.speed_written.result()));
+  vp.series.back().dashed = true;
+  vp.series.push_back(series_of("reached", d.speed_reached.result()));
+  r.add_plot(std::move(vp));
+
+  if (t.feed_limits == 0)
+    return;
+  rep::Table tab;
+  tab.caption =
+      fmt::format("Where an axis keeps the feed 5 % or more below the CL file's: {} stretch(es){}.",
+                  t.feed_limits,
+                  t.feed_limits > t.feed_limits_listed
+                      ? fmt::format(", the first {} listed", t.feed_limits_listed)
+                      : std::string());
+  tab.header = {"CL lines",        "axis",           "joint",  "limited by",
+                "lowest [mm/min]", "asked [mm/min]", "motions"};
+  for (int i = 0; i < t.feed_limits_listed; ++i) {
+    rp_feed_limit_info f{};
+    f.struct_size = sizeof f;
+    if (rp_feed_limit(session, i, &f) != RP_OK)
+      break;
+    tab.rows.push_back(
+        {rep::text(f.first_line == f.last_line ? fmt::format("{}", f.first_line)
+                                               : fmt::format("{}-{}", f.first_line, f.last_line)),
+         rep::text(f.axis_name), rep::text(f.joint_name), rep::text(f.limit),
+         rep::num(f.lowest_mm_per_min, 0), rep::num(f.asked_mm_per_min, 0),
+         rep::num(static_cast<double>(f.motions), 0)});
+  }
+  r.add_table(tab);
+}
+
 // The toolpath in the CL frame, projected on XY, XZ and YZ, coloured by 1/kappa_F.
 void add_toolpath_section(rep::HtmlReport& r, const ConvertReport::Impl& d) {
   r.add_section("Toolpath in the CL frame, coloured by 1/kappa_F");
@@ -448,6 +553,7 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
     add_run_warnings(r, session, context);
     add_decimation_note(r, d);
     add_joints_section(r, d, limits);
+    add_speed_section(r, d, session);
     add_conditioning_plot(r, d);
     add_external_axes_plot(r, d);
     add_solver_and_feed_section(r, d);

@@ -2,10 +2,12 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "redpost.h"
 #include "redpost/io/error.hpp"
 
 int main(int argc, char** argv) {
@@ -15,7 +17,7 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"redpost: postprocessor for redundant robotic milling cells"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "redpost 0.2.0");
+  app.set_version_flag("--version", std::string("redpost ") + rp_version());
 
   const redpost::cli::Runner fk = redpost::cli::add_fk_command(app);
   const redpost::cli::Runner convert = redpost::cli::add_convert_command(app);

@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 2
+#define REDPOST_VERSION_MINOR 3
 #define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.2.0"
+#define REDPOST_VERSION "0.3.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -104,7 +104,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.2.0". */
+/* The library's version, e.g. "0.3.0". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -193,17 +193,62 @@ typedef struct rp_motion {
   int iterations;         /* of the solve of the written posture */
   double feed_mm_per_min; /* the feed in force for RP_MOTION_LIN; NaN for PTP and rapid */
   double tcp[3];          /* the TCP in the CL (workpiece) frame, mm */
+  /* Added in 0.3 (docs/timing.md): the time model. The observer is called once the motion is
+   * timed: at the next stop, or when later motions can no longer change it, which may be 64 or
+   * more motions later (and, for the last ones, during rp_close). */
+  double time_s;       /* when the motion ends, from the program's start */
+  double duration_s;   /* how long it takes */
+  double speed_mm_s;   /* the highest path speed it reaches (0 for PTP) */
+  double asked_mm_s;   /* the speed asked: the CL feed or the rapid speed; NaN for PTP */
+  double command_mm_s; /* the $VEL.CP written (lower where an axis limits it); NaN for PTP */
+  const char* limit;   /* what kept it below the asked speed ("none", "axis velocity", ...) */
+  int limit_joint;     /* the joint behind it (chain index), -1 */
+  /* Per joint, the largest fraction of its velocity limit it reaches (0: no limit known). */
+  double speed_fraction[16];
 } rp_motion;
 
-/* Called once per written motion, after it was written, on the thread that sent the event. The
+/* Called once per written motion, once it is timed, on the thread that sent an event. The
  * pointer is valid during the call only. It must return normally (no longjmp, no C++ exception)
  * and must not call back into the session. */
 typedef void (*rp_motion_observer)(const rp_motion* motion, void* user);
 
 /* Sets (fn != NULL) or removes (fn == NULL) the session's motion observer; user is passed back.
- * Only on an open session (RP_ERR_STATE otherwise); motions written before are not replayed.
+ * Only on an open session (RP_ERR_STATE otherwise). Motions written before and already timed
+ * are not replayed; those written before but not yet timed are reported to it.
  * Without an observer nothing is computed for it. Added for `redpost convert --report`. */
 RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer fn, void* user);
+
+/* The time model of the program (docs/timing.md), complete after rp_close. Added in 0.3. */
+typedef struct rp_timing {
+  unsigned struct_size;       /* set to sizeof(rp_timing) before the call */
+  double cycle_time_s;        /* every motion and dwell; tool changes take no time in it */
+  double cutting_time_s;      /* the motions at a CL feed, as the controller runs them */
+  double feed_time_s;         /* the same motions at exactly the CL feed */
+  int axis_speeds_known;      /* 1: the cell gives its axes' speeds; 0: they limit nothing */
+  long slowed_motions;        /* motions written with a $VEL.CP below the asked speed */
+  double peak_speed_fraction; /* the largest fraction of a velocity limit any axis reaches */
+  int peak_speed_joint;       /* its joint (chain index), -1 */
+  int peak_speed_line;        /* its CL line */
+  long feed_limits;           /* stretches where an axis keeps the feed 5 % or more lower */
+  int feed_limits_listed;     /* how many of them rp_feed_limit gives (the first 1000) */
+  int untimed_tool_changes;   /* tool changes (HALT, a routine) whose own time is not known */
+} rp_timing;
+RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
+
+/* Stretch number index (0-based) where one axis keeps the feed below the CL file's. */
+typedef struct rp_feed_limit_info {
+  unsigned struct_size;      /* set to sizeof(rp_feed_limit_info) before the call */
+  int first_line, last_line; /* CL lines */
+  long motions;
+  int joint;                /* chain index */
+  const char* joint_name;   /* valid while the session lives */
+  const char* axis_name;    /* "A1".."E6" or "none" (static) */
+  const char* limit;        /* "axis velocity", "axis acceleration" or "corner" (static) */
+  double lowest_mm_per_min; /* the lowest speed reached on it */
+  double asked_mm_per_min;  /* the feed asked */
+} rp_feed_limit_info;
+/* RP_ERR_BAD_INPUT past the last one listed. */
+RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_limit_info* info);
 
 /* Warning number index (0-based) of the session, or NULL past the end. */
 RP_API const char* rp_warning(const rp_session* session, int index);

@@ -70,6 +70,19 @@ std::string template_set_path(const char* given) {
 
 }  // namespace redpost::abi
 
+namespace {
+
+// "A1".."E6" or "none" as a static string: valid whatever happens to the session.
+const char* static_axis_name(const redpost::ControllerAxis& axis) {
+  static const char* const kAxisNames[] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                                           "E1", "E2", "E3", "E4", "E5", "E6"};
+  if (!axis.mapped() || axis.number < 1 || axis.number > 6)
+    return "none";
+  return kAxisNames[(axis.kind == redpost::AxisKind::external ? 6 : 0) + axis.number - 1];
+}
+
+}  // namespace
+
 using namespace redpost::abi;
 
 extern "C" {
@@ -380,15 +393,7 @@ RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_r
       std::swap(out.lowest, out.highest);
       std::swap(out.margin_lower, out.margin_upper);
     }
-    static const char* const kAxisNames[] = {"A1", "A2", "A3", "A4", "A5", "A6",
-                                             "E1", "E2", "E3", "E4", "E5", "E6"};
-    // Static strings: the names stay valid whatever happens to the session.
-    const std::string a = redpost::axis_name(j.axis);
-    out.axis_name = "none";
-    for (const char* n : kAxisNames) {
-      if (a == n)
-        out.axis_name = n;
-    }
+    out.axis_name = static_axis_name(j.axis);
     *range = out;
   });
 }
@@ -435,8 +440,79 @@ RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer 
       out.feed_mm_per_min = m.feed_mm_per_min;
       for (int i = 0; i < 3; ++i)
         out.tcp[i] = m.p_part_mm[i];
+      out.time_s = m.time_s;
+      out.duration_s = m.duration_s;
+      out.speed_mm_s = m.speed_mm_s;
+      out.asked_mm_s = m.asked_mm_s;
+      out.command_mm_s = m.command_mm_s;
+      out.limit = redpost::to_string(m.limit);
+      out.limit_joint = m.limit_joint;
+      for (int i = 0; i < out.joint_count && i < 16; ++i)
+        out.speed_fraction[i] = m.speed_fraction ? (*m.speed_fraction)[i] : 0.0;
       fn(&out, user);
     });
+  });
+}
+
+RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!timing)
+      throw AbiError{RP_ERR_NULL, "rp_timing_get: timing is NULL"};
+    if (timing->struct_size == 0 || timing->struct_size > sizeof(rp_timing)) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_timing_get: struct_size is " +
+                                           std::to_string(timing->struct_size) +
+                                           "; set it to sizeof(rp_timing)"};
+    }
+    const redpost::PostSummary& s = session->summary();
+    rp_timing out{};
+    out.struct_size = timing->struct_size;
+    out.cycle_time_s = s.cycle_time_s;
+    out.cutting_time_s = s.cutting_time_s;
+    out.feed_time_s = s.feed_time_s;
+    out.axis_speeds_known = s.axis_speeds_known ? 1 : 0;
+    out.slowed_motions = s.slowed_motions;
+    out.peak_speed_fraction = s.peak_speed_fraction;
+    out.peak_speed_joint = s.peak_speed_joint;
+    out.peak_speed_line = s.peak_speed_line;
+    out.feed_limits = s.feed_limits_total;
+    out.feed_limits_listed = static_cast<int>(s.feed_limits.size());
+    out.untimed_tool_changes = s.untimed_tool_changes;
+    std::memcpy(timing, &out, timing->struct_size);
+  });
+}
+
+RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_limit_info* info) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!info)
+      throw AbiError{RP_ERR_NULL, "rp_feed_limit: info is NULL"};
+    if (info->struct_size == 0 || info->struct_size > sizeof(rp_feed_limit_info)) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_feed_limit: struct_size is " +
+                                           std::to_string(info->struct_size) +
+                                           "; set it to sizeof(rp_feed_limit_info)"};
+    }
+    const std::vector<redpost::FeedLimit>& all = session->summary().feed_limits;
+    if (index < 0 || static_cast<std::size_t>(index) >= all.size()) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_feed_limit: no stretch " + std::to_string(index) + " (" +
+                                           std::to_string(all.size()) + " listed)"};
+    }
+    const redpost::FeedLimit& f = all[static_cast<std::size_t>(index)];
+    const redpost::Joint& j = session->cell.joint(f.joint);
+    rp_feed_limit_info out{};
+    out.struct_size = info->struct_size;
+    out.first_line = f.first_line;
+    out.last_line = f.last_line;
+    out.motions = f.motions;
+    out.joint = f.joint;
+    out.joint_name = j.name.c_str();
+    out.axis_name = static_axis_name(j.axis);
+    out.limit = redpost::to_string(f.limit);
+    out.lowest_mm_per_min = f.lowest_mm_per_min;
+    out.asked_mm_per_min = f.asked_mm_per_min;
+    std::memcpy(info, &out, info->struct_size);
   });
 }
 

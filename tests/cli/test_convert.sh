@@ -23,7 +23,7 @@ run ok convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/ok" -
 [ "$rc" -eq 0 ] && pass || fail "pocket: exit $rc: $(cat "$work/ok.err")"
 [ -s "$work/ok/POCKET.src" ] && [ -s "$work/ok/POCKET.dat" ] && pass || fail "pocket: no .src/.dat"
 grep -q "^poses [0-9]" "$work/ok.out" && pass || fail "pocket: no summary: $(cat "$work/ok.out")"
-head -1 "$work/ok/joints.csv" | grep -q "^pose,cl_line,theta_M,d_L,theta_1" && pass ||
+head -1 "$work/ok/joints.csv" | grep -q "^pose,cl_line,time_s,theta_M,d_L,theta_1" && pass ||
   fail "joints csv header: $(head -1 "$work/ok/joints.csv")"
 ls -a "$work/ok" | grep -q "~" && fail "temporary files left: $(ls -a "$work/ok")" || pass
 
@@ -97,9 +97,10 @@ run rep convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/rep"
 [ "$rc" -eq 0 ] && [ -s "$work/rep/report.html" ] && pass || fail "report: exit $rc: $(cat "$work/rep.err")"
 cmp -s "$work/ok/POCKET.src" "$work/rep/POCKET.src" && cmp -s "$work/ok/POCKET.dat" "$work/rep/POCKET.dat" &&
   pass || fail "the KRL differs with --report"
-# Joints, 1/kappa_F, external axes, iterations, feed and three toolpath projections.
+# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, iterations, feed and three
+# toolpath projections.
 plots=$(grep -o '<svg class="plot"' "$work/rep/report.html" | wc -l)
-[ "$plots" -eq 8 ] && pass || fail "report: $plots plots, expected 8"
+[ "$plots" -eq 10 ] && pass || fail "report: $plots plots, expected 10"
 urls=$(grep -Eo '(https?|ftp|file)://[^"'"'"' )]*' "$work/rep/report.html" | grep -vx 'http://www.w3.org/2000/svg' || true)
 [ -z "$urls" ] && pass || fail "report refers outside itself: $urls"
 # The motion count in the report is the joints log's row count (one row per written motion).

@@ -8,8 +8,9 @@ redpost=$1
 src=$2
 out=$3
 here=$(cd "$(dirname "$0")" && pwd)
-# Joints, 1/kappa_F, external axes, iterations, feed and the XY, XZ, YZ toolpath projections.
-expected=8
+# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, iterations, feed and the
+# XY, XZ, YZ toolpath projections.
+expected=10
 rm -rf "$out" && mkdir -p "$out" || exit 1
 "$redpost" convert "$src/examples/cl/pocket_arcs.apt" \
   --cell "$src/definitions/cells/andres2011_kr15_track_table.xml" -o "$out" --name POCKET -q \

@@ -49,6 +49,19 @@ int Cell::find_joint(const std::string& joint_name) const {
   return -1;
 }
 
+bool Cell::has_axis_speeds() const {
+  bool any = false;
+  for (int i = 0; i < joint_count; ++i) {
+    const Joint& j = joints[static_cast<size_t>(i)];
+    if (j.type == JointType::virtual_spin)
+      continue;
+    if (!j.has_speed())
+      return false;
+    any = true;
+  }
+  return any;
+}
+
 void finalize_cell(Cell& cell) {
   if (cell.joint_count < 1 || cell.joint_count > kMaxJoints) {
     throw Error(ErrorCode::internal, "a cell needs 1.." + std::to_string(kMaxJoints) +

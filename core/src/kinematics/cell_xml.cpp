@@ -223,6 +223,36 @@ std::string fmt_num(double v) {
   return os.str();
 }
 
+// <speed velocity=".." acceleration=".."/>: the axis's largest speed and acceleration, in
+// controller units (deg/s and deg/s^2 for a revolute joint, mm/s and mm/s^2 for a prismatic
+// one; rad and m units may be named). Both are needed: the time model and the plan use both.
+void read_speed(const Reader& r, const XMLElement* e, Joint& j) {
+  r.only_attributes(e, {"velocity", "acceleration"});
+  if (j.type == JointType::virtual_spin) {
+    r.fail(e, "joint '" + j.name +
+                  "' is virtual (the tool's free spin): it drives no axis and has no <speed>");
+  }
+  r.required(e, "velocity");
+  r.required(e, "acceleration");
+  const bool prismatic = j.type == JointType::prismatic;
+  // Bounds far beyond any machine: a typo (an extra zero is fine, three are not meant).
+  const double v = prismatic ? r.number(e, "velocity", e->Attribute("velocity"),
+                                        {{"mm/s", 1.0}, {"m/s", 1000.0}}, 1e5)
+                             : r.number(e, "velocity", e->Attribute("velocity"),
+                                        {{"deg/s", kPi / 180.0}, {"rad/s", 1.0}}, deg_to_rad(1e5));
+  const double a = prismatic
+                       ? r.number(e, "acceleration", e->Attribute("acceleration"),
+                                  {{"mm/s2", 1.0}, {"m/s2", 1000.0}}, 1e6)
+                       : r.number(e, "acceleration", e->Attribute("acceleration"),
+                                  {{"deg/s2", kPi / 180.0}, {"rad/s2", 1.0}}, deg_to_rad(1e6));
+  if (!(v > 0.0))
+    r.fail(e, "the velocity of joint '" + j.name + "' must be > 0");
+  if (!(a > 0.0))
+    r.fail(e, "the acceleration of joint '" + j.name + "' must be > 0");
+  j.max_velocity = v;
+  j.max_acceleration = a;
+}
+
 Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_convention) {
   r.only_attributes(e, {"name", "type", "dh"});
   Joint j;
@@ -236,9 +266,9 @@ Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_conven
   for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
     const std::string n = c->Name();
     if (n != "dh" && n != "limits" && n != "home" && n != "weight" && n != "axis" &&
-        n != "stiffness") {
+        n != "stiffness" && n != "speed") {
       r.fail(c, "unknown element <" + n + "> in joint '" + j.name +
-                    "' (known: dh, limits, home, weight, axis, stiffness)");
+                    "' (known: dh, limits, home, weight, axis, stiffness, speed)");
     }
   }
 
@@ -284,6 +314,9 @@ Joint parse_joint(const Reader& r, const XMLElement* e, DhConvention cell_conven
     if (!(j.weight > 0.0))
       r.fail(w, "the weight of joint '" + j.name + "' must be > 0");
   }
+
+  if (const XMLElement* sp = r.child(e, "speed", false))
+    read_speed(r, sp, j);
 
   if (const XMLElement* s = r.child(e, "stiffness", false)) {
     r.only_attributes(s, {"value", "unit"});
@@ -427,6 +460,36 @@ ControllerSettings read_controller(const Reader& r, const XMLElement* e, const C
   return c;
 }
 
+// Speeds are all or nothing: the time model and the plan need every axis's limits, and a cell
+// that gives some but forgets one is a mistake to name, not a limit to guess.
+void check_speeds(const Reader& r, const XMLElement* root, const Cell& cell) {
+  int with = -1, without = -1;
+  for (int i = 0; i < cell.joint_count; ++i) {
+    const Joint& j = cell.joint(i);
+    if (j.type == JointType::virtual_spin)
+      continue;
+    if (j.has_speed() && with < 0)
+      with = i;
+    if (!j.has_speed() && without < 0)
+      without = i;
+  }
+  if (with < 0 || without < 0)
+    return;
+  const Joint& missing = cell.joint(without);
+  const std::string axis = missing.axis.mapped() ? " (" + axis_name(missing.axis) + ")" : "";
+  std::string msg = "joint '" + missing.name + "'" + axis + " has no <speed> while joint '" +
+                    cell.joint(with).name +
+                    "' has one: give every axis its velocity and acceleration (<speed "
+                    "velocity=\"..\" acceleration=\"..\"/>, docs/cell-format.md), or none";
+  // The joint's own line: find its element again.
+  for (const XMLElement* e = root->FirstChildElement("joint"); e;
+       e = e->NextSiblingElement("joint")) {
+    if (e->GetLineNum() == missing.source_line)
+      r.fail(e, msg);
+  }
+  r.fail(root, msg);
+}
+
 }  // namespace
 
 ToolTable parse_tool_table(const std::string& xml_text, const std::string& source_name) {
@@ -527,6 +590,7 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
   }
   if (cell.joint_count == 0)
     r.fail(root, "the cell has no <joint>");
+  check_speeds(r, root, cell);
   cell.T_last_tcp = pending;
 
   if (cond) {

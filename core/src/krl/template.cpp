@@ -243,6 +243,20 @@ class Reader : public detail::StrictXml {
     return v;
   }
 
+  // A number in [lo, hi], written plainly (no unit).
+  double real(const XMLElement* e, const char* attr, double lo, double hi) const {
+    const std::string text = required(e, attr);
+    double v = 0.0;
+    const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(v) || v < lo ||
+        v > hi) {
+      fail(e, std::string("<") + e->Name() + "> attribute '" + attr + "' = \"" + text +
+                  "\": expected a number from " + fmt::format("{}", lo) + " to " +
+                  fmt::format("{}", hi));
+    }
+    return v;
+  }
+
   // The text content of an element that holds text only (plain or CDATA), and the line on
   // which that text starts.
   std::string text_of(const XMLElement* e, int& line) const {
@@ -427,6 +441,21 @@ void check_statements(const Reader& r, const XMLElement* root, const KrlTemplate
   }
 }
 
+// <timing>: what the program's skeleton sets up for the controller's motion, for the time
+// model (docs/timing.md). Every attribute is optional; the defaults are documented there.
+void read_timing(const Reader& r, const XMLElement* e, KrlTemplateSet& set) {
+  r.only_attributes(
+      e, {"ptp-velocity", "ptp-acceleration", "path-acceleration", "orientation-velocity"});
+  if (e->Attribute("ptp-velocity"))
+    set.timing.ptp_velocity_percent = r.real(e, "ptp-velocity", 1.0, 100.0);
+  if (e->Attribute("ptp-acceleration"))
+    set.timing.ptp_acceleration_percent = r.real(e, "ptp-acceleration", 1.0, 100.0);
+  if (e->Attribute("path-acceleration"))
+    set.timing.path_acceleration_m_s2 = r.real(e, "path-acceleration", 0.01, 100.0);
+  if (e->Attribute("orientation-velocity"))
+    set.timing.orientation_velocity_deg_s = r.real(e, "orientation-velocity", 1.0, 10000.0);
+}
+
 }  // namespace
 
 KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::string& source_name) {
@@ -448,6 +477,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
   const XMLElement* numbers = nullptr;
   const XMLElement* spline = nullptr;
   const XMLElement* limits = nullptr;
+  const XMLElement* timing = nullptr;
   std::set<std::string> files_seen;
   std::map<std::string, int> statement_line;
 
@@ -479,6 +509,11 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       r.only_attributes(e, {"max-bytes"});
       // At least 16 KiB: a program file's skeleton and one motion fit many times over.
       set.max_file_bytes = r.integer(e, "max-bytes", 16 * 1024, 1 << 30);
+    } else if (n == "timing") {
+      if (timing)
+        r.fail(e, "<timing> given twice");
+      timing = e;
+      read_timing(r, e, set);
     } else if (n == "file") {
       r.only_attributes(e, {"kind"});
       const std::string kind = r.required(e, "kind");
@@ -511,8 +546,8 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       read_statement(r, e, set, statement_line);
     } else {
       r.fail(e, "unknown element <" + n +
-                    "> in <krl-templates> (known: description, numbers, spline, limits, file, "
-                    "statement)");
+                    "> in <krl-templates> (known: description, numbers, spline, limits, timing, "
+                    "file, statement)");
     }
   }
 

@@ -84,7 +84,8 @@ Isometry PostSession::Impl::physical_tcp_fk(const JointVector& q) {
 }
 
 bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector& q1,
-                                       const detail::ArcChords& arc, std::string& why) {
+                                       const detail::ArcChords& arc, JointVector& peak_rate,
+                                       std::string& why) {
   const ArmIk* ik = arm_ik_for_active(why);
   if (!ik)
     return false;
@@ -112,6 +113,8 @@ bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector&
       static_cast<int>(std::ceil(std::max(path.sweep * 180.0 / kPi / 2.0, length / 1.0))), 16,
       4000);
   JointVector q_prev = q0, q_other = q0;
+  peak_rate.setZero(active_cell->size());
+  const double ds = length / samples;
   for (int k = 1; k <= samples; ++k) {
     const double s = static_cast<double>(k) / samples;
     // The CL arc: the controller's circle must stay within the chordal tolerance of it.
@@ -145,6 +148,7 @@ bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector&
                           rad_to_deg(std::fabs(q[i] - q_prev[i])), 100.0 * s);
         return false;
       }
+      peak_rate[i] = std::max(peak_rate[i], std::fabs(q[i] - q_prev[i]) / ds);
     }
     q_prev = q;
   }
@@ -180,7 +184,8 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
     last_target = chord;
   }
   std::string why;
-  if (!circ_replay_ok(q0, tracker.q(), arc, why)) {
+  JointVector peak;
+  if (!circ_replay_ok(q0, tracker.q(), arc, peak, why)) {
     tracker = saved_tracker;
     last_target = saved_target;
     summary.poses = saved_poses;
@@ -193,7 +198,7 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
     }
     return false;
   }
-  writer.velocity(feed_mm_per_min / 60000.0);
+  set_speed(feed_mm_per_min / 60000.0, true);
   const Eigen::Vector3d mid_cl =
       arc.centre +
       arc.r0 * (std::cos(0.5 * arc.sweep_rad) * arc.u + std::sin(0.5 * arc.sweep_rad) * arc.v) +
@@ -201,10 +206,15 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
   KrlMotion aux;
   aux.T_base_tcp = Isometry::Identity();
   aux.T_base_tcp.translation() = o.T_B_base.inverse() * (o.T_B_part * mid_cl);
-  const JointVector& q1 = tracker.q();
+  const JointVector q1 = tracker.q();
   const KrlMotion end = motion_at(KrlMotionKind::lin, q1, cl_line);
+  const Isometry T1 = o.T_B_base * end.T_base_tcp;
+  const TimedMotion t =
+      timed_cp(q_written, T_written, q1, T1, arc.r0 * arc.sweep_rad, cl_line, &peak);
+  writer.velocity(t.command_mm_s / 1000.0);
   writer.circ(aux, end);
-  after_write(end, q1);
+  after_write(end, q1, t);
+  remember_written(q1, T1);
   last_target = target_in_B(arc.end, tool_axis, cl_line);
   remember_cl(arc.end, tool_axis);
   return true;

@@ -144,10 +144,13 @@ void PostSession::Impl::record(const PoseResult& r, int cl_line) {
   }
 }
 
+// A PTP (the first motion, an approach, a rapid above the clearance plane) to the posture q.
 void PostSession::Impl::emit(KrlMotionKind kind, const JointVector& q, int cl_line) {
   const KrlMotion m = motion_at(kind, q, cl_line);
+  const TimedMotion t = timed_ptp(q, cl_line);
   writer.motion(m);
-  after_write(m, q);
+  after_write(m, q, t);
+  remember_written(q, o.T_B_base * m.T_base_tcp);
 }
 
 // The motion to the posture q (the tracker's current one), checked against the limits.
@@ -166,41 +169,27 @@ KrlMotion PostSession::Impl::motion_at(KrlMotionKind kind, const JointVector& q,
   return m;
 }
 
-// The motion count, the observer and the joints log of a written motion.
-void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q) {
-  const int cl_line = m.cl_line;
+// A written motion: counted, and handed to the time model, which makes its joints-log row and
+// observer sample once it is timed (timing.cpp).
+void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
+                                    const TimedMotion& t) {
   ++summary.motions;
-  if (o.on_motion)
-    observe(m, q);
-  if (csv) {
-    line.clear();
-    fmt::format_to(std::back_inserter(line), "{},{}", summary.motions, cl_line);
-    for (int i = 0; i < cell.size(); ++i)
-      fmt::format_to(std::back_inserter(line), ",{:.9f}", q[i]);
-    for (int i = 0; i < cell.size(); ++i) {
-      if (cell.joint(i).axis.mapped()) {
-        fmt::format_to(std::back_inserter(line), ",{:.6f}", to_axis_value(cell.joint(i), q[i]));
-      }
-    }
-    line.push_back('\n');
-    csv->write(line);
-  }
-}
-
-void PostSession::Impl::observe(const KrlMotion& m, const JointVector& q) {
-  MotionSample s;
-  s.index = summary.motions;
-  s.kind = m.kind;
-  s.cl_line = m.cl_line;
-  s.q = &q;
-  s.axes = &m.axes;
-  s.inv_condition = last.inv_condition;
-  s.iterations = last.iterations;
-  if (m.kind == KrlMotionKind::lin)
-    s.feed_mm_per_min = feed_mm_per_min;
+  PendingMotion p;
+  p.index = summary.motions;
+  p.cl_line = m.cl_line;
+  p.kind = m.kind;
+  p.q = q;
+  p.axes = m.axes;
+  p.inv_condition = last.inv_condition;
+  p.iterations = last.iterations;
+  if (m.kind == KrlMotionKind::lin && t.at_feed)
+    p.feed_mm_per_min = feed_mm_per_min;
   // {base} -> {B} -> part: the TCP the controller is sent, in the CL frame.
-  s.p_part_mm = o.T_B_part.inverse() * (o.T_B_base * m.T_base_tcp.translation());
-  o.on_motion(s);
+  p.p_part_mm = o.T_B_part.inverse() * (o.T_B_base * m.T_base_tcp.translation());
+  pending.push_back(std::move(p));
+  TimedMotion timed = t;
+  timed.index = summary.motions;
+  timer->push(timed);
 }
 
 // The physical TCP is the chain's TCP with every virtual joint at 0: the controller's $TOOL
@@ -269,6 +258,13 @@ void PostSession::Impl::move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d&
   }
   const bool rapid = next_rapid;
   next_rapid = false;
+  // A CL point repeated (a cycle's expansion, CAM output) is no motion: tracking it would
+  // write a LIN of zero length that only moves the redundant axes, which a controller cannot
+  // time by its path speed.
+  if ((p_mm - last_cl_point).norm() < 1e-9 && (axis.normalized() - last_cl_axis).norm() < 1e-12 &&
+      axis.allFinite()) {
+    return;
+  }
   if (rapid) {
     rapid_move(p_mm, axis, cl_line, plane);
     return;
@@ -282,10 +278,10 @@ void PostSession::Impl::move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d&
       feed_warned = true;
     }
   }
-  writer.velocity(feed_mm_per_min / 60000.0);
+  set_speed(feed_mm_per_min / 60000.0, true);
   const TcpTarget target = target_in_B(p_mm, axis, cl_line);
   track_line(target, cl_line, false);
-  emit(KrlMotionKind::lin, tracker.q(), cl_line);
+  emit_line(cl_line);
   last_target = target;
   remember_cl(p_mm, axis);
 }
@@ -319,10 +315,10 @@ void PostSession::Impl::first_or_approach(const Eigen::Vector3d& p_mm, const Eig
   last_target = target;
   remember_cl(entry, axis);
   if (below) {
-    writer.velocity(o.rapid_velocity_m_per_s);
+    set_speed(o.rapid_velocity_m_per_s, false);
     const TcpTarget down = target_in_B(p_mm, axis, cl_line);
     track_line(down, cl_line, false);
-    emit(KrlMotionKind::lin, tracker.q(), cl_line);
+    emit_line(cl_line);
     last_target = down;
     remember_cl(p_mm, axis);
   }
@@ -335,6 +331,7 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
   const int steps = std::max(
       1, static_cast<int>(
              std::ceil(std::max(length / o.max_step_mm, rad_to_deg(turn) / o.max_step_axis_deg))));
+  line_steps.clear();
   for (int s = 1; s <= steps; ++s) {
     TcpTarget step = target;
     if (s < steps) {
@@ -360,6 +357,8 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
     if (r.status != PoseStatus::converged)
       fail(r, cl_line, rapid ? "rapid" : "cutting move");
     record(r, cl_line);
+    if (steps > 1)
+      line_steps.push_back(r.q);
   }
   return true;
 }
@@ -375,7 +374,8 @@ void PostSession::Impl::rapid_move(const Eigen::Vector3d& p_mm, const Eigen::Vec
   }
   constexpr double kOn = 1e-6;  // a point on the plane counts as above it
   const double h0 = plane->height(last_cl_point), h1 = plane->height(p_mm);
-  if ((h0 < -kOn) != (h1 < -kOn) && std::fabs(h0 - h1) > kOn) {
+  // An end on the plane is no crossing: splitting there would write a rapid of zero length.
+  if ((h0 < -kOn) != (h1 < -kOn) && std::fabs(h0) > kOn && std::fabs(h1) > kOn) {
     // Split where the line crosses the plane: the part below straight, the part above free.
     const double t = h0 / (h0 - h1);
     const Eigen::Vector3d cross = last_cl_point + t * (p_mm - last_cl_point);
@@ -401,9 +401,12 @@ void PostSession::Impl::rapid_piece(const Eigen::Vector3d& p_mm, const Eigen::Ve
                 "would dip below the clearance plane",
                 SourceLocation{o.source_name, cl_line, 0});
   }
-  if (!ptp)
-    writer.velocity(o.rapid_velocity_m_per_s);
-  emit(ptp ? KrlMotionKind::rapid : KrlMotionKind::lin, tracker.q(), cl_line);
+  if (ptp) {
+    emit(KrlMotionKind::rapid, tracker.q(), cl_line);
+  } else {
+    set_speed(o.rapid_velocity_m_per_s, false);
+    emit_line(cl_line);
+  }
   last_target = target;
   remember_cl(p_mm, axis);
 }

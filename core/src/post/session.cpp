@@ -61,7 +61,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
   if (!o.joints_csv_path.empty()) {
     csv = std::make_unique<PendingFile>(o.joints_csv_path);
     line.clear();
-    fmt::format_to(std::back_inserter(line), "pose,cl_line");
+    fmt::format_to(std::back_inserter(line), "pose,cl_line,time_s");
     for (int i = 0; i < c.size(); ++i)
       fmt::format_to(std::back_inserter(line), ",{}", c.joint(i).name);
     for (int i = 0; i < c.size(); ++i) {
@@ -72,6 +72,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
     line.push_back('\n');
     csv->write(line);
   }
+  start_timing(templates);
 }
 
 PostSession::PostSession(const Cell& cell, const KrlTemplateSet& templates,
@@ -145,6 +146,7 @@ void PostSession::tool_change(int number, const std::string& name, double, doubl
 
 void PostSession::dwell(double seconds) {
   impl_->writer.dwell(seconds);
+  impl_->timing_stop(seconds);
 }
 
 void PostSession::machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool applied,
@@ -201,6 +203,8 @@ void PostSession::literal(const std::string& text, int cl_line) {
                 SourceLocation{impl_->o.source_name, cl_line, 0});
   }
   impl_->writer.literal(text);
+  // A statement passed through may stop the advance (WAIT, HALT, a call): timed as a stop.
+  impl_->timing_stop(0.0);
 }
 
 const PostSummary& PostSession::finish() {
@@ -209,6 +213,7 @@ const PostSummary& PostSession::finish() {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",
                 SourceLocation{m.o.source_name, 0, 0});
   }
+  m.finish_timing();
   // The joints log first: if the program cannot be completed after it, the log is complete and
   // correct, whereas a program without its log would be the worse half to leave behind.
   if (m.csv) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -20,6 +21,7 @@
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
 #include "redpost/post/session.hpp"
+#include "redpost/timing/path_timer.hpp"
 
 namespace redpost {
 
@@ -72,6 +74,41 @@ struct PostSession::Impl {
   std::string arm_ik_problem;
   int circ_fallbacks = 0;
 
+  // The time model (timing.cpp): every written motion is timed by `timer`; its joints-log row
+  // and its observer sample wait in `pending` until the timer has timed it.
+  struct PendingMotion {
+    long index = 0;
+    int cl_line = 0;
+    KrlMotionKind kind = KrlMotionKind::lin;
+    JointVector q;
+    AxisValues axes;
+    double inv_condition = 0.0;
+    int iterations = 0;
+    double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
+  };
+  std::unique_ptr<PathTimer> timer;
+  std::deque<PendingMotion> pending;
+  double asked_m_per_s = std::numeric_limits<double>::quiet_NaN();  // the next CP motion's speed
+  bool asked_is_feed = false;  // ... is the CL feed (not the rapid speed)
+  bool have_written = false;   // q_written and T_written hold the last written motion
+  JointVector q_written;
+  Isometry T_written = Isometry::Identity();  // its physical TCP in {B}
+  double apo_mm = 0.0;
+  int velocity_decimals = 6;
+  double orientation_velocity_rad_s = 0.0;
+  double ptp_velocity_fraction = 1.0, ptp_acceleration_fraction = 1.0;
+  // The postures tracked along the last track_line(), when it took several steps: written one
+  // by one where the controller's straight line between its ends cannot be proven.
+  std::vector<JointVector> line_steps;
+  int unproven_lines = 0;
+  // The stretch of motions an axis is slowing now (summary.feed_limits, warnings).
+  std::optional<FeedLimit> open_limit;
+  std::optional<FeedLimit> open_slowdown;
+  int slowdown_warnings = 0;
+  long slowdown_groups = 0;
+  JointVector fraction;
+
   // NX's MSYS, for the messages of an unreachable first pose.
   int msys_line = 0;
   bool msys_applied = false;
@@ -85,8 +122,8 @@ struct PostSession::Impl {
   void record(const PoseResult& r, int cl_line);
   void emit(KrlMotionKind kind, const JointVector& q, int cl_line);
   KrlMotion motion_at(KrlMotionKind kind, const JointVector& q, int cl_line);
-  void after_write(const KrlMotion& m, const JointVector& q);
-  void observe(const KrlMotion& m, const JointVector& q);
+  void after_write(const KrlMotion& m, const JointVector& q, const TimedMotion& t);
+  void observe(const PendingMotion& p, const TimedMotion& t, const MotionTiming& mt);
   Isometry physical_tcp(const JointVector& q);
   static int last_pure_spin(const Cell& c);
   TcpTarget target_in_B(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line);
@@ -108,10 +145,30 @@ struct PostSession::Impl {
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
 
+  // --- timing.cpp ----------------------------------------------------------------------------
+  void start_timing(const KrlTemplateSet& templates);
+  void set_speed(double m_per_s, bool is_feed);
+  // Writes the LIN to the tracker's posture: as one LIN where the controller's straight line
+  // between the last written posture and it is proven (lin_replay), else as the steps tracked.
+  void emit_line(int cl_line);
+  void write_lin(const JointVector& q, int cl_line, const JointVector* replay_peak);
+  TimedMotion timed_cp(const JointVector& q0, const Isometry& T0, const JointVector& q1,
+                       const Isometry& T1, double length_mm, int cl_line,
+                       const JointVector* replay_peak);
+  TimedMotion timed_ptp(const JointVector& q1, int cl_line);
+  bool lin_replay(const JointVector& q0, const Isometry& T0, const JointVector& q1,
+                  const Isometry& T1, JointVector& peak_rate, double length_mm, std::string& why);
+  void remember_written(const JointVector& q, const Isometry& T_B);
+  void on_timed(const TimedMotion& t, const MotionTiming& mt);
+  void close_slowdown();
+  void close_limit();
+  void finish_timing();
+  void timing_stop(double dwell_s);
+
   // --- circ.cpp ------------------------------------------------------------------------------
   bool try_circ(const detail::ArcChords& arc, const Eigen::Vector3d& tool_axis, int cl_line);
   bool circ_replay_ok(const JointVector& q0, const JointVector& q1, const detail::ArcChords& arc,
-                      std::string& why);
+                      JointVector& peak_rate, std::string& why);
   const ArmIk* arm_ik_for_active(std::string& why);
   Isometry physical_tcp_fk(const JointVector& q);
 

@@ -82,6 +82,10 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
   if (started)
     retract_for_tool_change(cl_line, longer);
   writer.tool_change(change);
+  // The change itself (a HALT, or the cell's routine) stops the robot for a time the program
+  // does not know.
+  timing_stop(0.0);
+  ++summary.untimed_tool_changes;
   use_tool_cell(number, length_mm, cl_line);
   tool_number = number;
   active_length_mm = new_length;
@@ -143,10 +147,10 @@ void PostSession::Impl::retract_for_tool_change(int cl_line, double longer_mm) {
   if (!(distance > 1e-6))
     return;
   const Eigen::Vector3d up = last_cl_point + distance * last_cl_axis;
-  writer.velocity(o.rapid_velocity_m_per_s);
+  set_speed(o.rapid_velocity_m_per_s, false);
   const TcpTarget target = target_in_B(up, last_cl_axis, cl_line);
   track_line(target, cl_line, false);
-  emit(KrlMotionKind::lin, tracker.q(), cl_line);
+  emit_line(cl_line);
   last_target = target;
   remember_cl(up, last_cl_axis);
 }

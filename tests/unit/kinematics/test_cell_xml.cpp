@@ -572,7 +572,7 @@ TEST_CASE("cell_xml: unknown elements are refused") {
     const std::string e = R"(<limit min="-1" max="1"/>)";
     expect_bad(with(kJ3Home, kJ3Home + e), e,
                "unknown element <limit> in joint 'j3' (known: dh, limits, home, weight, axis, "
-               "stiffness)");
+               "stiffness, speed)");
   }
 }
 
@@ -916,4 +916,101 @@ TEST_CASE("cell_xml: caro2014 cell: modified DH, stiffness, the spindle <fixed> 
   CHECK(
       (cell.T_last_tcp.linear() - Eigen::Matrix3d(Eigen::Vector3d(1, -1, -1).asDiagonal())).norm() <
       1e-12);
+}
+
+// --- axis speeds (<speed>, issue 17) -------------------------------------------------------------
+
+namespace {
+
+// kBase with <speed> on every arm joint: joint i gets velocity 100 + i deg/s and acceleration
+// 300 + i deg/s2, so that each line stays unique. `replace` swaps one joint's element for another
+// text (empty: the joint has none).
+std::string with_speeds(int replace_joint = 0, const std::string& replacement = "") {
+  std::string doc = kBase;
+  for (int i = 1; i <= 6; ++i) {
+    const std::string home = "<home value=\"" + std::to_string(i) + "\"/>";
+    const std::string speed = "<speed velocity=\"" + std::to_string(100 + i) +
+                              " deg/s\" acceleration=\"" + std::to_string(300 + i) + " deg/s2\"/>";
+    doc = with(home, home + (i == replace_joint ? replacement : speed), doc);
+  }
+  return doc;
+}
+
+}  // namespace
+
+TEST_CASE("cell_xml: <speed> is stored in DH units per second and per second squared") {
+  SECTION("deg/s and deg/s2") {
+    const Cell cell = parse_cell(with_speeds(), "ok.xml");
+    CHECK(cell.has_axis_speeds());
+    for (int i = 0; i < 6; ++i) {
+      CHECK(cell.joint(i).max_velocity == Approx(deg(100 + i + 1)).epsilon(1e-14));
+      CHECK(cell.joint(i).max_acceleration == Approx(deg(300 + i + 1)).epsilon(1e-14));
+    }
+    CHECK_FALSE(cell.joint(6).has_speed());  // the virtual spin
+  }
+  SECTION("rad/s, and a bare number in controller units (deg/s)") {
+    const Cell cell =
+        parse_cell(with_speeds(2, R"(<speed velocity="2 rad/s" acceleration="150"/>)"), "ok.xml");
+    CHECK(cell.joint(1).max_velocity == 2.0);
+    CHECK(cell.joint(1).max_acceleration == Approx(deg(150)).epsilon(1e-14));
+  }
+  SECTION("a prismatic joint in mm/s, m/s, mm/s2 and m/s2") {
+    std::string doc = with_speeds(2, R"(<speed velocity="1.5 m/s" acceleration="2 m/s2"/>)");
+    doc =
+        with(R"(<joint name="j2" type="revolute">)", R"(<joint name="j2" type="prismatic">)", doc);
+    const Cell cell = parse_cell(doc, "ok.xml");
+    CHECK(cell.joint(1).max_velocity == Approx(1500.0).epsilon(1e-14));
+    CHECK(cell.joint(1).max_acceleration == Approx(2000.0).epsilon(1e-14));
+  }
+  SECTION("a cell without any <speed> has no axis speeds") {
+    const Cell cell = parse_cell(kBase, "ok.xml");
+    CHECK_FALSE(cell.has_axis_speeds());
+  }
+}
+
+TEST_CASE("cell_xml: a bad <speed> is refused at its line") {
+  SECTION("zero velocity") {
+    const std::string s = R"(<speed velocity="0" acceleration="100"/>)";
+    expect_bad(with_speeds(3, s), s, "the velocity of joint 'j3' must be > 0");
+  }
+  SECTION("negative acceleration") {
+    const std::string s = R"(<speed velocity="10" acceleration="-5 deg/s2"/>)";
+    expect_bad(with_speeds(3, s), s, "the acceleration of joint 'j3' must be > 0");
+  }
+  SECTION("NaN") {
+    const std::string s = R"(<speed velocity="nan" acceleration="100"/>)";
+    expect_bad(with_speeds(3, s), s, "NaN and inf are refused");
+  }
+  SECTION("a linear unit on a revolute joint") {
+    const std::string s = R"(<speed velocity="10 mm/s" acceleration="100"/>)";
+    expect_bad(with_speeds(3, s), s, "unit");
+  }
+  SECTION("without acceleration") {
+    const std::string s = R"(<speed velocity="10"/>)";
+    expect_bad(with_speeds(3, s), s, "acceleration");
+  }
+  SECTION("on the virtual spin") {
+    std::string doc = with_speeds();
+    const std::string s = R"(<speed velocity="10" acceleration="100"/>)";
+    doc = with(R"(<home value="0"/>)", std::string(R"(<home value="0"/>)") + s, doc);
+    expect_bad(doc, s, "joint 'spin' is virtual");
+  }
+  SECTION("missing on one joint while the others have one: the joint's line") {
+    const std::string doc = with_speeds(4, "");
+    expect_bad(doc, R"(<joint name="j4" type="revolute">)",
+               "joint 'j4' (A4) has no <speed> while joint 'j1' has one");
+  }
+}
+
+TEST_CASE("cell_xml: the shipped cells give every axis a speed") {
+  for (const char* name : {"andres2011_kr15_track_table", "kr15_2", "caro2014_kr270_table"}) {
+    INFO(name);
+    const Cell cell = test::shipped_cell(name);
+    CHECK(cell.has_axis_speeds());
+  }
+  // The reference cell: table 90 deg/s, track 1000 mm/s, A1 156 deg/s (definitions/cells).
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  CHECK(cell.joint(0).max_velocity == Approx(deg(90)).epsilon(1e-14));
+  CHECK(cell.joint(1).max_velocity == Approx(1000.0).epsilon(1e-14));
+  CHECK(cell.joint(2).max_velocity == Approx(deg(156)).epsilon(1e-14));
 }

@@ -101,7 +101,8 @@ std::vector<CsvRow> read_csv(const fs::path& path, int n) {
     std::istringstream s(line);
     CsvRow r;
     int pose = 0;
-    s >> pose >> r.cl_line;
+    double time_s = 0.0;
+    s >> pose >> r.cl_line >> time_s;
     r.q.resize(n);
     for (int i = 0; i < n; ++i)
       s >> r.q[i];

@@ -85,7 +85,8 @@ Run run(const std::string& cl, const fs::path& dir, const RunOptions& ro = {}) {
       c = c == ',' ? ' ' : c;
     std::istringstream s(line);
     int pose = 0, cl_line = 0;
-    s >> pose >> cl_line;
+    double time_s = 0.0;
+    s >> pose >> cl_line >> time_s;
     std::vector<double> q(static_cast<size_t>(cell.size()));
     for (double& v : q)
       s >> v;

@@ -74,8 +74,15 @@ struct Joint {
   // Joint stiffness: N*mm/rad for revolute joints, N/mm for prismatic ones (internal units).
   std::optional<double> stiffness;
 
+  // The axis's speed limits (<speed>), per second in DH units: rad/s and rad/s^2 for a revolute
+  // joint, mm/s and mm/s^2 for a prismatic one. 0: not given (a virtual joint never has them).
+  double max_velocity = 0.0;
+  double max_acceleration = 0.0;
+
   // Where in the definition file the joint is declared, for messages.
   int source_line = 0;
+
+  bool has_speed() const { return max_velocity > 0.0; }
 };
 
 // Which joints form the arm whose conditioning is watched (Andres Algorithm 1 step 8), and the
@@ -139,6 +146,10 @@ struct Cell {
 
   // Chain index of the joint with this name, or -1.
   int find_joint(const std::string& name) const;
+
+  // True when the cell gives the speed limits of its axes (every joint but the virtual ones has
+  // a <speed>; load_cell() refuses a cell where only some have one).
+  bool has_axis_speeds() const;
 };
 
 // Computes the per-link constants and checks the invariants a loaded cell must hold. Call after

@@ -10,6 +10,15 @@
 
 namespace redpost {
 
+// What a set's skeleton sets up for the controller's motion (<timing>, docs/timing.md): the
+// time model's view of the program. Defaults: the controller's own, as assumed there.
+struct KrlTimingSettings {
+  double ptp_velocity_percent = 100.0;        // BAS (#VEL_PTP, n)
+  double ptp_acceleration_percent = 100.0;    // BAS (#ACC_PTP, n)
+  double path_acceleration_m_s2 = 2.0;        // $ACC.CP
+  double orientation_velocity_deg_s = 200.0;  // $VEL.ORI1
+};
+
 struct KrlTemplateSet {
   std::string name;         // e.g. krc4_lin
   std::string source_file;  // for messages
@@ -37,6 +46,7 @@ struct KrlTemplateSet {
   // <limits max-bytes>: the largest .src a controller of this set loads (0: not given, the
   // writer's default applies; KrlProgramInfo::max_file_bytes overrides both).
   long max_file_bytes = 0;
+  KrlTimingSettings timing;
 };
 
 // Throws Error(io / bad_input) with file:line.

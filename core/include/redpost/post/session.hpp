@@ -22,6 +22,7 @@
 #include "redpost/kinematics/tool_table.hpp"
 #include "redpost/krl/writer.hpp"
 #include "redpost/redundancy/tracker.hpp"
+#include "redpost/timing/path_timer.hpp"
 
 namespace redpost {
 
@@ -39,6 +40,19 @@ struct MotionSample {
   double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
   // The physical TCP (virtual joints at 0: the same point) in the CL (part) frame, mm.
   Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
+  // The time model (docs/timing.md): when the motion ends, from the program's start, and how
+  // long it takes; the path speed it reaches, what it was asked (feed or rapid speed) and what
+  // $VEL.CP was written (lower where an axis limits it); what kept it below the asked speed.
+  double time_s = 0.0;
+  double duration_s = 0.0;
+  double speed_mm_s = 0.0;    // peak path speed (CP motions; 0 for PTP)
+  double asked_mm_s = 0.0;    // NaN for PTP
+  double command_mm_s = 0.0;  // NaN for PTP
+  TimingLimit limit = TimingLimit::none;
+  int limit_joint = -1;
+  // Per joint (chain order), the largest fraction of its velocity limit it reaches in this
+  // motion; 0 for joints without limits.
+  const JointVector* speed_fraction = nullptr;
 };
 
 // Called for every written motion, after it was written. Empty: no samples are made.
@@ -86,6 +100,17 @@ struct JointRange {
   double margin_lower = 0.0, margin_upper = 0.0;  // smallest distance to each limit
 };
 
+// A stretch of consecutive motions where one axis keeps the feed below what the CL file asks
+// (docs/timing.md): CL lines, the axis, the lowest speed reached and the speed asked.
+struct FeedLimit {
+  int first_line = 0, last_line = 0;
+  long motions = 0;
+  int joint = -1;  // chain index
+  TimingLimit limit = TimingLimit::axis_velocity;
+  double lowest_mm_per_min = 0.0;
+  double asked_mm_per_min = 0.0;
+};
+
 struct PostSummary {
   long poses = 0;    // postures tracked (including the intermediate steps of long moves)
   long motions = 0;  // motions written
@@ -94,6 +119,19 @@ struct PostSummary {
   std::vector<JointRange> joints;     // per joint, chain order
   std::vector<std::string> warnings;
   std::vector<std::string> files;  // final .src files written (after finish)
+
+  // The time model (docs/timing.md), complete after finish().
+  double cycle_time_s = 0.0;         // every motion and dwell (not the tool changes' own time)
+  double cutting_time_s = 0.0;       // the motions at a CL feed, as the controller runs them
+  double feed_time_s = 0.0;          // the same motions at exactly the feed the CL file asks
+  bool axis_speeds_known = false;    // the cell gives its axes' speeds (else they limit nothing)
+  long slowed_motions = 0;           // motions written with a $VEL.CP below the asked speed
+  double peak_speed_fraction = 0.0;  // the largest fraction of a velocity limit any axis reaches
+  int peak_speed_joint = -1;
+  int peak_speed_line = 0;
+  std::vector<FeedLimit> feed_limits;  // where an axis keeps the feed 5 % or more below the ask
+  long feed_limits_total = 0;          // how many there were (feed_limits keeps the first 1000)
+  int untimed_tool_changes = 0;        // tool changes (HALT or a routine) the model cannot time
 };
 
 class PostSession {

@@ -1,0 +1,243 @@
+// The time model (redpost/timing/path_timer.hpp) against closed forms and against a brute-force
+// integration of the fastest profile on a fine grid of the path, with its own corner formula.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "catch_compat.hpp"
+#include "redpost/timing/path_timer.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+
+namespace {
+
+struct Timed {
+  TimedMotion m;
+  MotionTiming t;
+};
+
+// The reference cell with its <speed> data (A1..A6, track, table).
+Cell timing_cell() {
+  return test::shipped_cell("andres2011_kr15_track_table");
+}
+
+TimedMotion cp(double length_mm, double speed_mm_s, const JointVector& chord_rate,
+               const Eigen::Vector3d& tangent, double blend_mm) {
+  TimedMotion m;
+  m.kind = TimedMotion::Kind::cp;
+  m.length_mm = m.tcp_length_mm = length_mm;
+  m.asked_mm_s = m.command_mm_s = speed_mm_s;
+  m.chord_rate = chord_rate;
+  m.peak_rate = chord_rate.cwiseAbs();
+  m.tangent = tangent;
+  m.blend_mm = blend_mm;
+  m.at_feed = true;
+  return m;
+}
+
+std::vector<Timed> run(const Cell& cell, const ControllerTiming& c,
+                       const std::vector<TimedMotion>& motions,
+                       std::size_t* most_buffered = nullptr) {
+  std::vector<Timed> out;
+  PathTimer timer(cell, c, [&](const TimedMotion& m, const MotionTiming& t) {
+    out.push_back({m, t});
+  });
+  long index = 0;
+  for (TimedMotion m : motions) {
+    m.index = ++index;
+    timer.push(m);
+    if (most_buffered)
+      *most_buffered = std::max(*most_buffered, timer.buffered());
+  }
+  timer.finish();
+  return out;
+}
+
+double total(const std::vector<Timed>& v) {
+  return v.empty() ? 0.0 : v.back().t.start_s + v.back().t.duration_s + v.back().m.dwell_after_s;
+}
+
+}  // namespace
+
+TEST_CASE("path_timer: stop-to-stop trapezoids and triangles in closed form", "[timing]") {
+  // 1000 mm at 100 mm/s and 2000 mm/s^2: 10 s cruising plus 2 x 0.05 s ramps at half speed.
+  CHECK(PathTimer::stop_to_stop_s(1000.0, 100.0, 2000.0) == Approx(10.05).epsilon(1e-12));
+  // 1 mm: the peak is sqrt(a d) = 44.7 mm/s < 100: a triangle of 2 sqrt(d / a).
+  CHECK(PathTimer::stop_to_stop_s(1.0, 100.0, 2000.0) ==
+        Approx(2.0 * std::sqrt(1.0 / 2000.0)).epsilon(1e-12));
+  CHECK(PathTimer::stop_to_stop_s(-1.0, 100.0, 2000.0) ==
+        Approx(2.0 * std::sqrt(1.0 / 2000.0)).epsilon(1e-12));
+  // Exactly at the boundary the two forms agree: d = v^2 / a.
+  CHECK(PathTimer::stop_to_stop_s(5.0, 100.0, 2000.0) == Approx(2.0 * 100.0 / 2000.0));
+  // A segment entered and left at speed.
+  CHECK(PathTimer::segment_s(100.0, 100.0, 100.0, 100.0, 2000.0) == Approx(1.0));
+  CHECK(PathTimer::segment_s(100.0, 0.0, 100.0, 100.0, 2000.0) == Approx(1.0 + 0.025));
+}
+
+TEST_CASE("path_timer: one motion from rest to rest, and the same path in 1000 blended pieces",
+          "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c;
+  c.path_acceleration_mm_s2 = 2000.0;
+  JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const std::vector<Timed> one = run(cell, c, {cp(1000.0, 100.0, rate, x, 0.5)});
+  REQUIRE(one.size() == 1);
+  CHECK(total(one) == Approx(10.05).epsilon(1e-12));
+  CHECK(one[0].t.peak_mm_s == Approx(100.0));
+  CHECK(one[0].t.limit == TimingLimit::none);
+
+  std::vector<TimedMotion> pieces(1000, cp(1.0, 100.0, rate, x, 0.5));
+  std::size_t most = 0;
+  const std::vector<Timed> many = run(cell, c, pieces, &most);
+  REQUIRE(many.size() == 1000);
+  CHECK(total(many) == Approx(10.05).epsilon(1e-9));
+  // The look-ahead holds what it takes to stop from 100 mm/s (2.5 mm), not the whole path.
+  CHECK(most <= 2 * 64 + 8);
+  // Without blending every piece stops: 1000 triangles of 1 mm.
+  std::vector<TimedMotion> exact(1000, cp(1.0, 100.0, rate, x, 0.0));
+  CHECK(total(run(cell, c, exact)) == Approx(1000 * 2.0 * std::sqrt(1.0 / 2000.0)).epsilon(1e-9));
+}
+
+TEST_CASE("path_timer: an axis's velocity and acceleration limits cap the path speed", "[timing]") {
+  const Cell cell = timing_cell();
+  const int track = cell.find_joint("d_L");
+  REQUIRE(track >= 0);
+  ControllerTiming c;
+  JointVector rate = JointVector::Zero(cell.size());
+  rate[track] = 2.0;  // the track moves 2 mm per mm of path: at most 500 mm/s of path
+  int joint = -1;
+  CHECK(PathTimer::velocity_cap(cell, rate, &joint) == Approx(500.0));
+  CHECK(joint == track);
+  CHECK(PathTimer::acceleration_cap(cell, rate, &joint) == Approx(1000.0));
+  const std::vector<Timed> r =
+      run(cell, c, {cp(2000.0, 1000.0, rate, Eigen::Vector3d::UnitX(), 0.5)});
+  // 2000 mm at 500 mm/s with 1000 mm/s^2 (the track's 2000 / 2): 4 s + 0.5 s.
+  CHECK(total(r) == Approx(4.5).epsilon(1e-12));
+  CHECK(r[0].t.limit == TimingLimit::axis_velocity);
+  CHECK(r[0].t.joint == track);
+  CHECK(r[0].t.axis_fraction == Approx(1.0));
+  CHECK(r[0].t.axis_fraction_joint == track);
+}
+
+TEST_CASE("path_timer: PTPs, stops and dwells end the blending", "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  TimedMotion ptp;
+  ptp.kind = TimedMotion::Kind::ptp;
+  ptp.ptp_time_s = 2.0;
+  ptp.chord_rate = rate;
+  ptp.peak_rate = rate;
+  std::vector<Timed> out;
+  PathTimer timer(cell, c, [&](const TimedMotion& m, const MotionTiming& t) {
+    out.push_back({m, t});
+  });
+  std::vector<TimedMotion> seq = {cp(100.0, 100.0, rate, x, 0.5), ptp,
+                                  cp(100.0, 100.0, rate, x, 0.5), cp(100.0, 100.0, rate, x, 0.5)};
+  long i = 0;
+  for (TimedMotion& m : seq) {
+    m.index = ++i;
+    timer.push(m);
+    if (i == 3)
+      timer.stop(1.5);  // WAIT SEC 1.5 after the third
+  }
+  timer.finish();
+  REQUIRE(out.size() == 4);
+  const double leg = PathTimer::stop_to_stop_s(100.0, 100.0, 2000.0);
+  CHECK(out[1].t.start_s == Approx(leg));
+  CHECK(out[2].t.start_s == Approx(leg + 2.0));
+  CHECK(out[3].t.start_s == Approx(leg + 2.0 + leg + 1.5));
+  CHECK(total(out) == Approx(3 * leg + 2.0 + 1.5));
+  CHECK(out[0].t.exit_mm_s == 0.0);
+  CHECK(out[2].t.exit_mm_s == 0.0);
+}
+
+TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid", "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c;
+  c.path_acceleration_mm_s2 = 1500.0;
+  std::mt19937_64 rng(20261201);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int count = 40;
+    std::vector<TimedMotion> motions;
+    Eigen::Vector3d dir = Eigen::Vector3d::UnitX();
+    JointVector rate = JointVector::Zero(cell.size());
+    for (int k = 0; k < count; ++k) {
+      const double length = 0.2 + 20.0 * u(rng) * u(rng);
+      const double speed = 20.0 + 300.0 * u(rng);
+      // Joint rates wander (the corners), sometimes steeply (the axis caps).
+      for (int i = 0; i < cell.size(); ++i) {
+        if (cell.joint(i).has_speed())
+          rate[i] += (u(rng) - 0.5) * (cell.joint(i).type == JointType::prismatic ? 0.6 : 0.004);
+      }
+      dir = (dir + 0.3 * Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized();
+      TimedMotion m = cp(length, speed, rate, dir, u(rng) < 0.1 ? 0.0 : 0.5 + u(rng));
+      if (u(rng) < 0.05)
+        m.stop_after = true;
+      motions.push_back(m);
+    }
+    const std::vector<Timed> timed = run(cell, c, motions);
+    REQUIRE(timed.size() == motions.size());
+
+    // Brute force: the fastest speed at every point of a fine grid under the same limits.
+    std::vector<double> s_at, cap, accel;
+    std::vector<std::size_t> owner;
+    for (std::size_t k = 0; k < motions.size(); ++k) {
+      const TimedMotion& m = motions[k];
+      const double cruise =
+          std::min(m.command_mm_s, PathTimer::velocity_cap(cell, m.peak_rate, nullptr));
+      const double a = std::min(c.path_acceleration_mm_s2,
+                                PathTimer::acceleration_cap(cell, m.peak_rate, nullptr));
+      const int steps = std::max(200, static_cast<int>(m.length_mm / 0.002));
+      for (int q = 0; q < steps; ++q) {
+        cap.push_back(cruise);
+        accel.push_back(a);
+        owner.push_back(k);
+        s_at.push_back(m.length_mm / steps);
+      }
+      // The junction at its end: the corner formula, written again here.
+      double j = 0.0;
+      if (k + 1 < motions.size() && !m.stop_after && m.blend_mm > 0.0) {
+        const TimedMotion& nx = motions[k + 1];
+        const double d = std::min({m.blend_mm, 0.5 * m.length_mm, 0.5 * nx.length_mm});
+        j = std::min(cruise, std::min(nx.command_mm_s,
+                                      PathTimer::velocity_cap(cell, nx.peak_rate, nullptr)));
+        for (int i = 0; i < cell.size(); ++i) {
+          const double dr = std::fabs(nx.chord_rate[i] - m.chord_rate[i]);
+          if (cell.joint(i).has_speed() && dr > 0.0)
+            j = std::min(j, std::sqrt(cell.joint(i).max_acceleration * d / dr));
+        }
+        const double dt = (nx.tangent - m.tangent).norm();
+        if (dt > 0.0)
+          j = std::min(j, std::sqrt(c.path_acceleration_mm_s2 * d / dt));
+      }
+      cap.back() = std::min(cap.back(), j);  // the grid point at the motion's end
+    }
+    // Forward and backward passes on the grid (v^2 grows by at most 2 a ds per step).
+    const std::size_t n = cap.size();
+    std::vector<double> v(n);
+    double prev = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      v[i] = std::min(cap[i], std::sqrt(prev * prev + 2.0 * accel[i] * s_at[i]));
+      prev = v[i];
+    }
+    double next = 0.0;
+    for (std::size_t i = n; i-- > 0;) {
+      v[i] = std::min(v[i], next);
+      next = std::sqrt(v[i] * v[i] + 2.0 * accel[i] * s_at[i]);
+    }
+    double brute = 0.0;
+    double before = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double mean = 0.5 * (before + v[i]);
+      brute += mean > 0.0 ? s_at[i] / mean : 0.0;
+      before = v[i];
+    }
+    INFO("trial " << trial);
+    CHECK(total(timed) == Approx(brute).epsilon(0.01));
+  }
+}
