@@ -48,8 +48,30 @@ struct ConvertOptions {
   int split = 0;
   int cl_line_every = 50;
   double chordal_tolerance_mm = 0.01;
+  std::string plan = "global";
+  std::string preset = "smooth";
+  double keyframe_spacing_mm = 20.0;
+  std::vector<std::string> locks;  // --lock E1=500, --lock E2
   bool quiet = false;
 };
+
+// --lock E1=500 or --lock E2: the axis number and the value (NaN: none given).
+void parse_lock(const std::string& text, rp_options& o) {
+  const std::size_t eq = text.find('=');
+  const std::string axis = text.substr(0, eq);
+  if (axis.size() != 2 || (axis[0] != 'E' && axis[0] != 'e') || axis[1] < '1' || axis[1] > '6')
+    throw BadArgument{"--lock '" + text + "': name an external axis E1..E6, e.g. --lock E1=500"};
+  const int k = axis[1] - '1';
+  o.lock_mask |= 1u << k;
+  if (eq == std::string::npos)
+    return;
+  const std::string value = text.substr(eq + 1);
+  char* end = nullptr;
+  const double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(v))
+    throw BadArgument{"--lock '" + text + "': the value is not a number (mm or deg)"};
+  o.lock_value[k] = v;
+}
 
 // A KRL identifier from a file name: letters, digits and '_', a letter first, short enough to
 // take the _P001 suffix of a split program.
@@ -260,6 +282,13 @@ int run_convert(const ConvertOptions& opt) {
   o.motions_per_file = opt.split;
   o.cl_line_every = opt.cl_line_every;
   o.chordal_tolerance_mm = opt.chordal_tolerance_mm;
+  o.plan = opt.plan == "local" ? RP_PLAN_LOCAL : RP_PLAN_GLOBAL;
+  o.plan_preset = opt.preset == "stiff"  ? RP_PLAN_STIFF
+                  : opt.preset == "fast" ? RP_PLAN_FAST
+                                         : RP_PLAN_SMOOTH;
+  o.keyframe_spacing_mm = opt.keyframe_spacing_mm;
+  for (const std::string& l : opt.locks)
+    parse_lock(l, o);
 
   Handles h;
   if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
@@ -374,6 +403,19 @@ Runner add_convert_command(CLI::App& app) {
                 "A comment with the CL line every N motions (default 50, 0: never)");
   c->add_option("--chordal-tol", opt->chordal_tolerance_mm,
                 "Chordal tolerance for arcs and NURBS in mm (default 0.01)");
+  c->add_option("--plan", opt->plan,
+                "Redundancy along the path (docs/redundancy.md): global plans table, track and "
+                "spin over the path ahead first (default); local is Algorithm 1 pose by pose")
+      ->check(CLI::IsMember({"global", "local"}));
+  c->add_option("--preset", opt->preset,
+                "What the global plan weighs most: smooth (little axis travel; default), stiff "
+                "(the arm's conditioning), fast (no time lost to axis limits)")
+      ->check(CLI::IsMember({"smooth", "stiff", "fast"}));
+  c->add_option("--keyframe-spacing", opt->keyframe_spacing_mm,
+                "Path between the global plan's keyframes, mm (default 20)");
+  c->add_option("--lock", opt->locks,
+                "Hold an external axis: E1=500 at that value (mm or deg; global plan), E2 where "
+                "the first pose puts it; may be repeated");
   c->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
   return [opt] {
     try {

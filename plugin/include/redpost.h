@@ -76,7 +76,18 @@ typedef struct rp_options {
   double clearance_z_mm;         /* z in the CL frame above which a rapid may be a PTP */
   double rapid_velocity_m_per_s; /* $VEL.CP of rapids written as LIN; default 0.25 */
   long max_file_bytes;           /* largest .src; 0: the template set's, or 4 MiB */
+  /* Added in 0.3: the redundancy along the path (docs/redundancy.md, "Whole-path planning").
+   * Hosts built against 0.2 get the defaults, so the plan is global for them too. */
+  int plan;                   /* RP_PLAN_GLOBAL (default) or RP_PLAN_LOCAL (Algorithm 1 alone) */
+  int plan_preset;            /* RP_PLAN_SMOOTH (default), RP_PLAN_STIFF or RP_PLAN_FAST */
+  double keyframe_spacing_mm; /* path between the plan's keyframes; default 20 */
+  unsigned lock_mask;         /* bit k set: external axis E(k+1) is held (not planned) */
+  double lock_value[6];       /* E1..E6 (mm, deg) for a held axis (global plan only); NaN:
+                                 where the first pose puts it */
 } rp_options;
+
+enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };
+enum { RP_PLAN_SMOOTH = 0, RP_PLAN_STIFF = 1, RP_PLAN_FAST = 2 };
 
 typedef enum rp_spindle_direction {
   RP_SPINDLE_OFF = 0,

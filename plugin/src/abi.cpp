@@ -12,6 +12,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <new>
 #include <optional>
@@ -68,6 +69,66 @@ std::string template_set_path(const char* given) {
   return bare ? definitions_dir() + "/krl/" + name + ".xml" : name;
 }
 
+// The plan options of rp_options into PostOptions (docs/redundancy.md).
+void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) {
+  if (o.plan != RP_PLAN_GLOBAL && o.plan != RP_PLAN_LOCAL) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("options.plan is {}: use RP_PLAN_GLOBAL or RP_PLAN_LOCAL", o.plan)};
+  }
+  if (o.plan_preset < RP_PLAN_SMOOTH || o.plan_preset > RP_PLAN_FAST) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("options.plan_preset is {}: use RP_PLAN_SMOOTH, RP_PLAN_STIFF or "
+                               "RP_PLAN_FAST",
+                               o.plan_preset)};
+  }
+  if (!std::isfinite(o.keyframe_spacing_mm) || o.keyframe_spacing_mm < 1.0 ||
+      o.keyframe_spacing_mm > 1000.0) {
+    throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the keyframe spacing must be 1 to 1000 mm, "
+                                                 "got {}",
+                                                 o.keyframe_spacing_mm)};
+  }
+  post.plan = o.plan == RP_PLAN_LOCAL ? RedundancyPlan::local : RedundancyPlan::global;
+  post.plan_settings = plan_preset(o.plan_preset == RP_PLAN_STIFF  ? PlanPreset::stiff
+                                   : o.plan_preset == RP_PLAN_FAST ? PlanPreset::fast
+                                                                   : PlanPreset::smooth);
+  post.plan_settings.keyframe_spacing_mm = o.keyframe_spacing_mm;
+  post.plan_settings.prismatic_step_mm = o.keyframe_spacing_mm;
+  post.plan_settings.lock_value =
+      JointVector::Constant(cell.size(), std::numeric_limits<double>::quiet_NaN());
+  for (int k = 0; k < 6; ++k) {
+    if (!(o.lock_mask & (1u << k)))
+      continue;
+    int joint = -1;
+    for (int i = 0; i < cell.size(); ++i) {
+      const ControllerAxis& a = cell.joint(i).axis;
+      if (a.kind == AxisKind::external && a.number == k + 1)
+        joint = i;
+    }
+    if (joint < 0) {
+      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("E{} is to be held, but the cell maps no "
+                                                   "joint to E{}",
+                                                   k + 1, k + 1)};
+    }
+    post.plan_settings.locked.set(static_cast<std::size_t>(joint));
+    post.tracker.locked.set(static_cast<std::size_t>(joint));
+    const double v = o.lock_value[k];
+    if (std::isfinite(v) && post.plan == RedundancyPlan::local) {
+      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("E{} = {}: holding an axis at a given value "
+                                                   "needs the global plan",
+                                                   k + 1, v)};
+    }
+    if (std::isfinite(v)) {
+      const Joint& j = cell.joint(joint);
+      const double q = from_axis_value(j, v);
+      if (q < j.lower || q > j.upper) {
+        throw AbiError{RP_ERR_BAD_INPUT, fmt::format("E{} = {} is outside the limits of joint '{}'",
+                                                     k + 1, v, j.name)};
+      }
+      post.plan_settings.lock_value[joint] = q;
+    }
+  }
+}
+
 }  // namespace redpost::abi
 
 namespace {
@@ -100,6 +161,11 @@ RP_API void rp_options_init(rp_options* options) {
   options->cl_line_every = 50;
   options->chordal_tolerance_mm = 0.01;
   options->rapid_velocity_m_per_s = 0.25;
+  options->plan = RP_PLAN_GLOBAL;
+  options->plan_preset = RP_PLAN_SMOOTH;
+  options->keyframe_spacing_mm = 20.0;
+  for (double& v : options->lock_value)
+    v = std::numeric_limits<double>::quiet_NaN();
 }
 
 RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
@@ -168,6 +234,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
       post.T_B_part =
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
     }
+    set_plan_options(o, s->cell, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
     s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
   });

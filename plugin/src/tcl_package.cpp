@@ -158,13 +158,15 @@ const char* const kOpenUsage =
     "-cell CELL.xml -output DIR -name NAME ?-krl SET.xml? ?-joints-csv FILE? ?-source NAME? "
     "?-base EXPR? ?-tool EXPR? ?-placement {x y z a b c}? ?-apo MM? ?-split N? "
     "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
-    "?-max-bytes N?";
+    "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
-const char* const kOpenOptions[] = {
-    "-cell",        "-krl",   "-output",    "-name",      "-joints-csv", "-source",
-    "-base",        "-tool",  "-apo",       "-split",     "-placement",  "-cl-line-every",
-    "-chordal-tol", "-tools", "-clearance", "-rapid-vel", "-max-bytes",  nullptr};
+const char* const kOpenOptions[] = {"-cell",        "-krl",    "-output",    "-name",
+                                    "-joints-csv",  "-source", "-base",      "-tool",
+                                    "-apo",         "-split",  "-placement", "-cl-line-every",
+                                    "-chordal-tol", "-tools",  "-clearance", "-rapid-vel",
+                                    "-max-bytes",   "-plan",   "-preset",    "-keyframe-spacing",
+                                    nullptr};
 enum OpenOption {
   o_cell,
   o_krl,
@@ -182,7 +184,10 @@ enum OpenOption {
   o_tools,
   o_clearance,
   o_rapid_vel,
-  o_max_bytes
+  o_max_bytes,
+  o_plan,
+  o_preset,
+  o_keyframe_spacing
 };
 
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
@@ -233,6 +238,26 @@ int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
     }
     case o_tool:
       opt.tool = Tcl_GetString(v);
+      break;
+    case o_plan: {
+      static const char* const kPlans[] = {"global", "local", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kPlans, "-plan", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.plan = k == 0 ? RP_PLAN_GLOBAL : RP_PLAN_LOCAL;
+      break;
+    }
+    case o_preset: {
+      static const char* const kPresets[] = {"smooth", "stiff", "fast", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kPresets, "-preset", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.plan_preset = k == 1 ? RP_PLAN_STIFF : k == 2 ? RP_PLAN_FAST : RP_PLAN_SMOOTH;
+      break;
+    }
+    case o_keyframe_spacing:
+      if (get_double(interp, v, "-keyframe-spacing", &opt.keyframe_spacing_mm) != TCL_OK)
+        return TCL_ERROR;
       break;
     case o_apo:
       if (get_double(interp, v, "-apo", &opt.apo_mm) != TCL_OK)

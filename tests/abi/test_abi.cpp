@@ -52,6 +52,9 @@ rp_options options_for(const std::string& out_dir, const char* name) {
   o.cell_path = kCell.c_str();
   o.output_dir = out_dir.c_str();
   o.program_name = name;
+  // Pose by pose (Algorithm 1): every call is tracked and written when it is made, which is what
+  // these tests check call by call. The global plan buffers calls (test_abi_plan.cpp).
+  o.plan = RP_PLAN_LOCAL;
   return o;
 }
 

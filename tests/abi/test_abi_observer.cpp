@@ -74,6 +74,7 @@ rp_session* open_session(const std::string& dir) {
   // A clearance plane under the whole path: every rapid may be a PTP (docs/convert.md).
   o.has_clearance = 1;
   o.clearance_z_mm = -1e4;
+  o.plan = RP_PLAN_LOCAL;  // one sample per call, as the call is made
   rp_session* s = nullptr;
   REQUIRE(rp_open(&o, &s) == RP_OK);
   return s;

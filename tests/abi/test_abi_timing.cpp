@@ -9,7 +9,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,9 +31,10 @@ void record(const rp_motion* m, void* user) {
   static_cast<std::vector<rp_motion>*>(user)->push_back(*m);
 }
 
-rp_session* open_session(const std::string& dir, const char* name) {
+rp_session* open_session(const std::string& dir, const char* name, int plan = RP_PLAN_LOCAL) {
   rp_options o;
   rp_options_init(&o);
+  o.plan = plan;
   o.cell_path = kCell.c_str();
   o.output_dir = dir.c_str();
   o.program_name = name;
@@ -124,12 +124,11 @@ TEST_CASE("abi timing: the cycle time, the time at the CL feeds and every motion
 
 TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
   // The pocket example with every feed at 10 000 mm/min: the track limits the feed somewhere.
+  // (No std::regex: GCC 12 warns inside <regex> under the sanitizers, and warnings fail here.)
   std::ifstream in(kSource + "/examples/cl/pocket_arcs.apt");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string fast = std::regex_replace(
-      std::regex_replace(text.str(), std::regex("FEDRAT/MMPM,[0-9.]+"), "FEDRAT/MMPM,10000"),
-      std::regex("FEDRAT/[0-9.]+,MMPM"), "FEDRAT/10000,MMPM");
+  std::string fast, line;
+  while (std::getline(in, line))
+    fast += (line.rfind("FEDRAT/", 0) == 0 ? std::string("FEDRAT/MMPM,10000") : line) + "\n";
   const std::string dir = fresh_dir("fast");
   const std::string cl = dir + "/fast.apt";
   std::ofstream(cl) << fast;

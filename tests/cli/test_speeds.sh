@@ -43,12 +43,12 @@ for f in "$SRC"/examples/cl/*; do
 done
 passed
 
-begin "the examples at 10 000 mm/min: lowered \$VEL.CP keep every axis within its limit"
+begin "the examples at 10 000 mm/min, pose by pose: lowered \$VEL.CP keep every axis within its limit"
 slowed_any=0
 for f in "$SRC"/examples/cl/*; do
   name=fast_$(basename "$f")
   fast "$f" "$TMP/$name.cl"
-  speeds "$name" "$TMP/$name.cl"
+  speeds "$name" "$TMP/$name.cl" --plan local
   n=$(sed -n 's/.*; \([0-9]*\) motion(s) written with a lower \$VEL.CP.*/\1/p' "$TMP/out")
   [[ -n "$n" ]] || fail "$name: no count of lowered \$VEL.CP in the summary"
   slowed_any=$((slowed_any + n))
@@ -67,12 +67,49 @@ fi
 grep -q "FAIL: an axis passes 1.00 of its velocity limit" "$TMP/check" || fail "$(cat "$TMP/check")"
 passed
 
-begin "a cell without <speed> converts and says the axis speeds are not checked"
+begin "a cell without <speed> converts pose by pose and says the axis speeds are not checked"
 sed '/<speed /d' "$cell" >"$TMP/nospeed.xml"
 mkdir -p "$TMP/nospeed"
-run convert "$SRC/examples/cl/pocket_arcs.apt" --cell "$TMP/nospeed.xml" -o "$TMP/nospeed" --name P
+run convert "$SRC/examples/cl/pocket_arcs.apt" --cell "$TMP/nospeed.xml" -o "$TMP/nospeed" --name P \
+  --plan local
 expect_rc 0
 expect_out "axis speeds: not checked (the cell gives none)"
+passed
+
+begin "the examples at 10 000 mm/min with the whole-path plan: the feed kept, track travel bounded"
+travel_py=$SRC/tests/cli/travel_check.py
+for f in "$SRC"/examples/cl/*; do
+  name=fastplan_$(basename "$f")
+  fast "$f" "$TMP/$name.cl"
+  speeds "$name" "$TMP/$name.cl"
+  n=$(sed -n 's/.*; \([0-9]*\) motion(s) written with a lower \$VEL.CP.*/\1/p' "$TMP/out")
+  [[ "$n" == 0 ]] || fail "$name: $n motion(s) written with a lower \$VEL.CP"
+  grep -q "cutting at the written \$VEL.CP takes 1.0000 x" "$TMP/check" || fail "$name: $(cat "$TMP/check")"
+  # Issue 17: at most 0.5 mm of track travel per mm of cut (the long pass is along the track).
+  case $(basename "$f") in
+    long_pass.apt) bounds=(--track-net-min 1400) ;;
+    *) bounds=(--track-per-mm 0.5) ;;
+  esac
+  $py "$travel_py" "$TMP/$name/P.src" "${bounds[@]}" >"$TMP/travel" 2>&1 || fail "$name: $(cat "$TMP/travel")"
+  echo "cli.speeds: $name: $(cat "$TMP/travel")"
+done
+passed
+
+begin "a straight 1500 mm pass at 10 000 mm/min: the track carries it, no back and forth"
+{
+  printf 'PARTNO/STRAIGHT\nUNITS/MM\nCUTTER/10.,0\nLOADTL/1\nRAPID\nGOTO/-100,-300,100\n'
+  printf 'FEDRAT/MMPM,10000\n'
+  for k in $(seq 0 5 1500); do printf 'GOTO/-100,%d,60\n' $((-300 - k)); done
+} >"$TMP/straight.apt"
+speeds straight "$TMP/straight.apt"
+$py "$travel_py" "$TMP/straight/P.src" --track-net-min 1400 --track-travel-max 1650 >"$TMP/travel" 2>&1 ||
+  fail "straight: $(cat "$TMP/travel")"
+echo "cli.speeds: straight: $(cat "$TMP/travel")"
+mkdir -p "$TMP/straight_local"
+run convert "$TMP/straight.apt" --cell "$cell" -o "$TMP/straight_local" --name P --plan local
+expect_rc 0
+$py "$travel_py" "$TMP/straight_local/P.src" >"$TMP/travel" 2>&1
+echo "cli.speeds: straight, pose by pose: $(cat "$TMP/travel")"
 passed
 
 eval_dir=$SRC/../shared/evaldata

@@ -127,7 +127,10 @@ check_error error.missing_cell {
 check_error error.missing_cl {::redpost::reader_open $work/no_such.apt} {REDPOST RP_ERR_*} *no_such.apt*
 
 file mkdir $work/session
-set s [::redpost::open -cell $cell -output $work/session -name SESSION -source test.apt]
+# -plan local: every command is tracked when it is made, which last_move checks; the default
+# global plan buffers the commands (see plan.global below).
+set s [::redpost::open -cell $cell -output $work/session -name SESSION -source test.apt \
+    -plan local]
 check usage.not_a_number [list catch [list ::redpost::feed $s abc] m] 1
 check usage.not_a_number_message {set m} {expected a number for mm_per_min but got "abc"}
 check_error usage.spindle_direction {::redpost::spindle $s 1000 LEFT} * {bad direction "LEFT"*}
@@ -198,9 +201,11 @@ catch {::redpost::close $s}
 check error.nan_no_output {glob -nocomplain -directory $work/nan *} {}
 ::redpost::free $s
 
-# An unreachable pose: the message names the line; nothing is written.
+# An unreachable pose: the message names the line; nothing is written. Pose by pose the command
+# that brings it fails; with the global plan the command that completes a window
+# (plan.unreachable below).
 file mkdir $work/far
-set s [::redpost::open -cell $cell -output $work/far -name FAR -source far.apt]
+set s [::redpost::open -cell $cell -output $work/far -name FAR -source far.apt -plan local]
 ::redpost::rapid $s
 ::redpost::linear_move $s -120 -440 110 0 0 1
 ::redpost::feed $s 1000
@@ -210,6 +215,21 @@ check_error error.unreachable {::redpost::linear_move $s 5000 5000 110 0 0 1} \
 catch {::redpost::close $s}
 check error.unreachable_no_output {glob -nocomplain -directory $work/far *} {}
 ::redpost::free $s
+
+file mkdir $work/far_plan
+set s [::redpost::open -cell $cell -output $work/far_plan -name FAR -source far.apt]
+::redpost::rapid $s
+::redpost::linear_move $s -120 -440 110 0 0 1
+::redpost::feed $s 1000
+::redpost::set_line $s 77
+# The move is longer than the plan's horizon: the call that brings it is planned, and fails.
+check_error plan.unreachable {::redpost::linear_move $s 5000 5000 110 0 0 1} \
+    {REDPOST RP_ERR_*} {*far.apt:77: pose*}
+catch {::redpost::close $s}
+check plan.unreachable_no_output {glob -nocomplain -directory $work/far_plan *} {}
+::redpost::free $s
+check_error plan.bad_option {::redpost::open -cell $cell -output $work -name X -plan sideways} \
+    * {bad -plan "sideways"*}
 
 # --- the reader ------------------------------------------------------------------------------------
 

@@ -304,7 +304,18 @@ void PostSession::Impl::first_or_approach(const Eigen::Vector3d& p_mm, const Eig
     }
   }
   const TcpTarget target = target_in_B(entry, axis, cl_line);
-  const PoseResult r = tracker.solve_first_pose(target);
+  PoseResult r;
+  if (planning() && !plan_q.empty()) {
+    // The plan starts at the first point: reach the entry from its posture.
+    tracker.reset(plan_q.front());
+    follow_plan(0.0);
+    r = tracker.track(target);
+    if (r.status != PoseStatus::converged)
+      r = tracker.solve_first_pose(target);
+    plan_s = -(p_mm - entry).norm();
+  } else {
+    r = tracker.solve_first_pose(target);
+  }
   if (r.status != PoseStatus::converged)
     fail(r, cl_line, what);
   tracker.reset(r.q);
@@ -339,6 +350,8 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
       step.p_B_mm = (1.0 - t) * last_target.p_B_mm + t * target.p_B_mm;
       step.z_B = slerp_axis(last_target.z_B, target.z_B, t);
     }
+    if (planning())
+      follow_plan(plan_s + length * static_cast<double>(s) / steps);
     PoseResult r = tracker.track(step);
     if (r.status != PoseStatus::converged && rapid) {
       // A rapid traverse that may go joint-interpolated (PTP) need not follow the straight
@@ -360,6 +373,7 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
     if (steps > 1)
       line_steps.push_back(r.q);
   }
+  plan_s += length;
   return true;
 }
 

@@ -81,7 +81,79 @@ PostSession::PostSession(const Cell& cell, const KrlTemplateSet& templates,
 
 PostSession::~PostSession() = default;
 
+bool PostSession::defer(const ClEvent& e) {
+  Impl& m = *impl_;
+  if (!m.planning() || m.dispatching)
+    return false;
+  // A bad motion is refused by the call that brings it, as without the plan.
+  if (e.kind == ClEventKind::move || e.kind == ClEventKind::arc) {
+    const SourceLocation at{m.o.source_name, e.line, 0};
+    if (!e.p_mm.allFinite() || !e.tool_axis.allFinite() ||
+        (e.kind == ClEventKind::arc &&
+         (!e.arc_centre_mm.allFinite() || !e.arc_axis.allFinite() || !std::isfinite(e.value)))) {
+      throw Error(ErrorCode::bad_input,
+                  e.kind == ClEventKind::arc
+                      ? "a circular move with a coordinate that is not a finite number"
+                      : "a move with a coordinate that is not a finite number",
+                  at);
+    }
+    if (!(e.tool_axis.norm() > 1e-9))
+      throw Error(ErrorCode::bad_input, "a move with a tool axis of zero length", at);
+  }
+  m.deferred.push_back(e);
+  if (e.kind == ClEventKind::move || e.kind == ClEventKind::arc) {
+    if (e.p_mm.allFinite() && m.deferred_tail.allFinite())
+      m.deferred_length_mm += (e.p_mm - m.deferred_tail).norm();
+    if (e.p_mm.allFinite())
+      m.deferred_tail = e.p_mm;
+  } else if (e.kind == ClEventKind::tool_change) {
+    m.deferred_barrier = true;
+  }
+  // Only when a window may be complete: the planner walks the whole buffer.
+  if (m.deferred_barrier || m.deferred_length_mm >= m.o.plan_horizon_mm ||
+      m.deferred.size() >= 20000)
+    pump(false);
+  return true;
+}
+
+void PostSession::pump(bool flush) {
+  Impl& m = *impl_;
+  while (!m.deferred.empty()) {
+    const std::size_t n = m.plan_window(flush);
+    if (n == 0)
+      return;
+    const std::vector<double> end_s = m.dispatch_end_s;
+    m.dispatching = true;
+    try {
+      for (std::size_t k = 0; k < n; ++k) {
+        const ClEvent e = std::move(m.deferred.front());
+        m.deferred.pop_front();
+        handle(e);
+        if (k < end_s.size() && !std::isnan(end_s[k]))
+          m.plan_s = end_s[k];
+      }
+    } catch (...) {
+      m.dispatching = false;
+      throw;
+    }
+    m.dispatching = false;
+    // The estimate again, over what is left.
+    m.deferred_length_mm = 0.0;
+    m.deferred_barrier = false;
+    m.deferred_tail = m.last_cl_point;
+    for (const ClEvent& e : m.deferred) {
+      if ((e.kind == ClEventKind::move || e.kind == ClEventKind::arc) && e.p_mm.allFinite()) {
+        m.deferred_length_mm += (e.p_mm - m.deferred_tail).norm();
+        m.deferred_tail = e.p_mm;
+      }
+      m.deferred_barrier = m.deferred_barrier || e.kind == ClEventKind::tool_change;
+    }
+  }
+}
+
 void PostSession::handle(const ClEvent& e) {
+  if (defer(e))
+    return;
   switch (e.kind) {
     case ClEventKind::part_name:
       comment("part " + e.text);
@@ -139,18 +211,39 @@ void PostSession::handle(const ClEvent& e) {
   }
 }
 
-void PostSession::tool_change(int number, const std::string& name, double, double length_mm,
-                              int cl_line) {
+void PostSession::tool_change(int number, const std::string& name, double diameter_mm,
+                              double length_mm, int cl_line) {
+  ClEvent e;
+  e.kind = ClEventKind::tool_change;
+  e.tool_number = number;
+  e.text = name;
+  e.tool_diameter_mm = diameter_mm;
+  e.tool_length_mm = length_mm;
+  e.line = cl_line;
+  if (defer(e))
+    return;
   impl_->tool_change(number, name, length_mm, cl_line);
 }
 
 void PostSession::dwell(double seconds) {
+  ClEvent e;
+  e.kind = ClEventKind::dwell;
+  e.value = seconds;
+  if (defer(e))
+    return;
   impl_->writer.dwell(seconds);
   impl_->timing_stop(seconds);
 }
 
 void PostSession::machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool applied,
                                 int cl_line) {
+  ClEvent e;
+  e.kind = ClEventKind::machine_frame;
+  e.tool_axis = z_mcs_in_absolute;
+  e.flag = applied;
+  e.line = cl_line;
+  if (defer(e))
+    return;
   impl_->msys_line = cl_line;
   impl_->msys_applied = applied;
   impl_->msys_z = z_mcs_in_absolute;
@@ -160,6 +253,12 @@ void PostSession::spindle(double rpm, SpindleDirection direction) {
   if (!std::isfinite(rpm) || rpm < 0.0) {
     throw Error(ErrorCode::bad_input, fmt::format("spindle speed {} rpm is not valid", rpm));
   }
+  ClEvent e;
+  e.kind = ClEventKind::spindle;
+  e.value = rpm;
+  e.direction = direction;
+  if (defer(e))
+    return;
   impl_->writer.spindle(direction == SpindleDirection::off ? 0.0 : rpm,
                         direction != SpindleDirection::counter_clockwise);
 }
@@ -168,31 +267,73 @@ void PostSession::feed(double mm_per_min) {
   if (!std::isfinite(mm_per_min) || !(mm_per_min > 0.0)) {
     throw Error(ErrorCode::bad_input, fmt::format("feed {} mm/min is not valid", mm_per_min));
   }
+  ClEvent e;
+  e.kind = ClEventKind::feed;
+  e.value = mm_per_min;
+  if (defer(e))
+    return;
   impl_->feed_mm_per_min = mm_per_min;
 }
 
 void PostSession::rapid() {
+  ClEvent e;
+  e.kind = ClEventKind::rapid;
+  if (defer(e))
+    return;
   impl_->next_rapid = true;
 }
 
 void PostSession::move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line) {
+  ClEvent e;
+  e.kind = ClEventKind::move;
+  e.p_mm = p_mm;
+  e.tool_axis = tool_axis;
+  e.line = cl_line;
+  if (defer(e))
+    return;
   impl_->move(p_mm, tool_axis, cl_line, nullptr);
 }
 
 void PostSession::circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
                                 double radius_mm, const Eigen::Vector3d& p_mm,
                                 const Eigen::Vector3d& tool_axis, int cl_line) {
+  ClEvent e;
+  e.kind = ClEventKind::arc;
+  e.arc_centre_mm = centre;
+  e.arc_axis = axis;
+  e.value = radius_mm;
+  e.p_mm = p_mm;
+  e.tool_axis = tool_axis;
+  e.line = cl_line;
+  if (defer(e))
+    return;
   impl_->circular_move(centre, axis, radius_mm, p_mm, tool_axis, cl_line);
 }
 
 void PostSession::coolant(bool on, const std::string& mode) {
+  ClEvent e;
+  e.kind = ClEventKind::coolant;
+  e.flag = on;
+  e.text = mode;
+  if (defer(e))
+    return;
   impl_->writer.coolant(on, mode);
 }
 void PostSession::operation_start(const std::string& name) {
+  ClEvent e;
+  e.kind = ClEventKind::operation_start;
+  e.text = name;
+  if (defer(e))
+    return;
   impl_->writer.comment("operation " + name);
 }
 void PostSession::operation_end() {}
 void PostSession::comment(const std::string& text) {
+  ClEvent e;
+  e.kind = ClEventKind::comment;
+  e.text = text;
+  if (defer(e))
+    return;
   impl_->writer.comment(text);
 }
 void PostSession::literal(const std::string& text, int cl_line) {
@@ -202,6 +343,12 @@ void PostSession::literal(const std::string& text, int cl_line) {
     throw Error(ErrorCode::bad_input, "'" + text + "' cannot be passed to the KRL program: " + why,
                 SourceLocation{impl_->o.source_name, cl_line, 0});
   }
+  ClEvent e;
+  e.kind = ClEventKind::literal;
+  e.text = text;
+  e.line = cl_line;
+  if (defer(e))
+    return;
   impl_->writer.literal(text);
   // A statement passed through may stop the advance (WAIT, HALT, a call): timed as a stop.
   impl_->timing_stop(0.0);
@@ -209,6 +356,7 @@ void PostSession::literal(const std::string& text, int cl_line) {
 
 const PostSummary& PostSession::finish() {
   Impl& m = *impl_;
+  pump(true);
   if (!m.started) {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",
                 SourceLocation{m.o.source_name, 0, 0});

@@ -114,6 +114,25 @@ struct PostSession::Impl {
   bool msys_applied = false;
   Eigen::Vector3d msys_z = Eigen::Vector3d::UnitZ();
 
+  // Whole-path planning (plan.cpp): the buffered calls, the committed plan the tracker follows
+  // (keyframes and postures, s along the path in {B}), and the path length at last_target.
+  std::deque<ClEvent> deferred;
+  // An estimate of the buffered path's length (straight between the calls' points) and whether
+  // a tool change waits in the buffer: plan_window is tried only when a window may be complete.
+  double deferred_length_mm = 0.0;
+  Eigen::Vector3d deferred_tail =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  bool deferred_barrier = false;
+  std::vector<double> dispatch_end_s;  // for the events plan_window released: s at their end
+  bool dispatching = false;
+  std::unique_ptr<PathPlanner> planner;
+  const Cell* planner_cell = nullptr;
+  std::vector<PlanKeyframe> plan_kf;
+  std::vector<JointVector> plan_q;
+  double plan_s = 0.0;
+  long plan_windows = 0;
+  long plan_ik_evaluations = 0;
+
   Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options);
 
   // --- motion.cpp ----------------------------------------------------------------------------
@@ -176,6 +195,16 @@ struct PostSession::Impl {
   void tool_change(int number, const std::string& name, double length_mm, int cl_line);
   void use_tool_cell(int number, double length_mm, int cl_line);
   void retract_for_tool_change(int cl_line, double longer_mm);
+
+  // plan.cpp
+  bool planning() const { return o.plan == RedundancyPlan::global; }
+  std::size_t plan_window(bool flush);
+  void follow_plan(double s_mm);
+  void reset_plan();
+  std::size_t commit_window(const std::vector<PlanKeyframe>& kf, const std::vector<JointVector>& q,
+                            const std::vector<double>& end_s, std::size_t end, double commit_s,
+                            bool fresh);
+  const PathPlanner& planner_for_active(int cl_line);
 };
 
 }  // namespace redpost

@@ -68,6 +68,17 @@ void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full
                                 Scratch& s) const {
   const Cell& cell = *cell_;
   const NullSpaceGains& g = options_.gains;
+  if (following_) {
+    // Following a plan: centring on the planned posture, the limits kept; the conditioning
+    // switch would pull back towards where 1/kappa_F crossed its threshold, against the plan.
+    s.h = -follow_gain_ * (q - q_plan_);
+    if (full_goals) {
+      limit_avoidance(cell, q, g.limits, g.limit_zone, s.h_lim);
+      s.h += s.h_lim;
+    }
+    cap_motion(cell, follow_max_motion_, s.h);
+    return;
+  }
   // Eq. 13, first term: centring on the reference posture.
   s.h = -g.centring * (q - q_ref_);
   if (!full_goals) {
@@ -201,12 +212,52 @@ bool Tracker::steady(const TcpTarget& target) const {
   return history_ >= 2 && steady_continuation(before_p_, before_z_, last_p_, last_z_, target);
 }
 
+void Tracker::follow(const JointVector& q_plan, double gain, double max_motion) {
+  following_ = true;
+  q_plan_ = q_plan;
+  follow_gain_ = gain;
+  follow_max_motion_ = max_motion;
+}
+
+void Tracker::stop_following() {
+  following_ = false;
+}
+
+// The jump bound between consecutive postures: a converged result that moves a joint further
+// than the bound from the current posture becomes joint_jump.
+void Tracker::check_jump(PoseResult& r) const {
+  if (r.status != PoseStatus::converged)
+    return;
+  for (int i = 0; i < cell_->size(); ++i) {
+    const double step = std::abs(r.q[i] - q_[i]);
+    const double bound = cell_->joint(i).type == JointType::prismatic ? options_.max_joint_step_mm
+                                                                      : options_.max_joint_step_rad;
+    if (step > r.max_joint_step) {
+      r.max_joint_step = step;
+      r.max_step_joint = i;
+    }
+    if (step > bound && r.status == PoseStatus::converged) {
+      r.status = PoseStatus::joint_jump;
+      r.offending_joint = i;
+      r.offending_step = step;
+    }
+  }
+}
+
 PoseResult Tracker::track(const TcpTarget& target) {
   // Start from the previous posture (Algorithm 1), or, on a steady stretch of path, from its
   // linear extrapolation: one Newton step from there usually meets the tolerance, where two are
   // needed from the previous posture (docs/redundancy.md).
-  const bool predict = options_.extrapolate && steady(target);
-  if (predict) {
+  // Following a plan, the planned posture is the start: it is within a keyframe's interpolation
+  // of the target, and starting there keeps the tracked joints as smooth as the plan (the
+  // predictor would carry the last pose's self-motion on, against the plan's pull).
+  const bool predict = following_ || (options_.extrapolate && steady(target));
+  if (following_) {
+    scratch_.dq = q_plan_;
+    for (int i = 0; i < cell_->size(); ++i) {
+      scratch_.dq[i] = std::clamp(scratch_.dq[i], cell_->joint(i).lower, cell_->joint(i).upper);
+    }
+  } else if (predict) {
     scratch_.dq = q_ + (q_ - q_prev_);
     for (int i = 0; i < cell_->size(); ++i) {
       scratch_.dq[i] = std::clamp(scratch_.dq[i], cell_->joint(i).lower, cell_->joint(i).upper);
@@ -214,23 +265,16 @@ PoseResult Tracker::track(const TcpTarget& target) {
   }
   PoseResult r = iterate(target, predict ? scratch_.dq : q_, &switch_, true,
                          options_.max_iterations, !predict && scratch_valid_, scratch_);
-  if (r.status == PoseStatus::converged) {
-    // The jump bound between consecutive postures.
-    for (int i = 0; i < cell_->size(); ++i) {
-      const double step = std::abs(r.q[i] - q_[i]);
-      const double bound = cell_->joint(i).type == JointType::prismatic
-                               ? options_.max_joint_step_mm
-                               : options_.max_joint_step_rad;
-      if (step > r.max_joint_step) {
-        r.max_joint_step = step;
-        r.max_step_joint = i;
-      }
-      if (step > bound && r.status == PoseStatus::converged) {
-        r.status = PoseStatus::joint_jump;
-        r.offending_joint = i;
-        r.offending_step = step;
-      }
-    }
+  check_jump(r);
+  if (following_ && r.status != PoseStatus::converged) {
+    // Near a wrist singularity the plan's interpolated posture may lie closer to another
+    // branch than to the previous posture: track from the previous posture, still pulled
+    // towards the plan.
+    PoseResult again =
+        iterate(target, q_, &switch_, true, options_.max_iterations, false, scratch_);
+    check_jump(again);
+    if (again.status == PoseStatus::converged)
+      r = again;
   }
   // After a converged pose the scratch holds the frames and Jacobian at the new posture.
   scratch_valid_ = r.status == PoseStatus::converged;

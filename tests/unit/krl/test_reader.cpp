@@ -127,8 +127,8 @@ TEST_CASE("krl_reader: first motion values and Cartesian PTP with S and T", "[kr
   KrlProgram p =
       read_krl_program(source_path("tests/golden/pocket_arcs_krc2/POCKET_ARCS_KRC2.src"));
   REQUIRE(p.motions.size() >= 3);
-  CHECK(p.motions[0].target.values.at("A1") == Approx(5.0444));
-  CHECK(p.motions[0].target.values.at("E2") == Approx(17.6347));
+  CHECK(p.motions[0].target.values.at("A1") == Approx(11.3677));
+  CHECK(p.motions[0].target.values.at("E2") == Approx(12.0));
   CHECK(p.motions[0].line == 24);
   CHECK(p.motions[0].cl_line == 9);
   // With --clearance 100 the first rapid (z 110 -> 62) is a PTP down to the plane, then a LIN.

@@ -21,6 +21,7 @@
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/tool_table.hpp"
 #include "redpost/krl/writer.hpp"
+#include "redpost/redundancy/path_plan.hpp"
 #include "redpost/redundancy/tracker.hpp"
 #include "redpost/timing/path_timer.hpp"
 
@@ -58,6 +59,8 @@ struct MotionSample {
 // Called for every written motion, after it was written. Empty: no samples are made.
 using MotionObserver = std::function<void(const MotionSample&)>;
 
+enum class RedundancyPlan { local, global };
+
 struct PostOptions {
   KrlProgramInfo program;
   TrackerOptions tracker;
@@ -87,6 +90,15 @@ struct PostOptions {
   // A tool table that replaces the cell's entries (docs/tools.md); with no entries anywhere,
   // CL tool n is TOOL_DATA[n] with the CL file's length.
   ToolTable tools;
+  // Redundancy resolution along the path (docs/redundancy.md): local is Andres' Algorithm 1 from
+  // pose to pose with its secondary goals; global first plans the free joints (table, track,
+  // spin) over a horizon of the path ahead (path_plan.hpp) and tracks that plan. Under global
+  // the calls are buffered until the horizon is known, so an error may surface a few calls
+  // later (its message names its own CL line).
+  RedundancyPlan plan = RedundancyPlan::local;
+  PathPlanSettings plan_settings;
+  double plan_horizon_mm = 800.0;  // path planned ahead before the first half is written
+  double plan_follow_gain = 0.5;   // the tracker's pull towards the plan, per pose
   // Name of the CL source, for messages ("part.apt").
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
@@ -182,6 +194,10 @@ class PostSession {
   const Cell& cell() const;
 
  private:
+  // Under PostOptions::plan global: buffers the call (true) and releases what a plan covers.
+  bool defer(const ClEvent& event);
+  void pump(bool flush);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

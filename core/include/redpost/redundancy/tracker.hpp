@@ -100,6 +100,15 @@ class Tracker {
   PoseResult solve_first_pose(const TcpTarget& target, int perturbed_starts = 24,
                               std::uint64_t seed = 1) const;
 
+  // Follows a planned posture (docs/redundancy.md, "Whole-path planning"): from the next pose
+  // on, the centring of eq. 13 pulls towards q_plan with `gain` (per pose, instead of the
+  // options' reference and gain), the conditioning switch is off (the plan has weighed the
+  // conditioning), and the null-space motion per pose may reach `max_motion` (weighted norm).
+  // Call before each pose; stop_following() returns to the options' goals.
+  void follow(const JointVector& q_plan, double gain, double max_motion);
+  void stop_following();
+  bool following() const { return following_; }
+
   const JointVector& q() const { return q_; }
   // The TCP pose at q() (valid after a converged track(); computed otherwise).
   Isometry tcp_pose_at_q() const;
@@ -127,11 +136,16 @@ class Tracker {
   PoseResult iterate(const TcpTarget& target, JointVector q, SwitchState* goals, bool full_goals,
                      int max_iterations, bool start_evaluated, Scratch& s) const;
   void null_space_motion(const JointVector& q, SwitchState& sw, bool full_goals, Scratch& s) const;
+  void check_jump(PoseResult& r) const;
 
   const Cell* cell_;
   TrackerOptions options_;
   JointVector q_;
   JointVector q_ref_;
+  bool following_ = false;
+  JointVector q_plan_;
+  double follow_gain_ = 0.0;
+  double follow_max_motion_ = 0.0;
   JointVector base_inv_sqrt_w_;
   SwitchState switch_;
   // The last two converged poses, for the predictor.

@@ -1,0 +1,120 @@
+// Whole-path planning of the redundancy (issue 17, docs/redundancy.md "Whole-path planning"):
+// the free joints (the joints outside the 6R arm: table, track, the tool's spin) are sampled on a
+// lattice at keyframes along the path, the arm is solved in closed form for one posture, and the
+// cheapest sequence is found by dynamic programming over the layers (lattice_dp.hpp). Node cost:
+// the margin to every joint limit and the arm's conditioning 1/kappa_F. Edge cost: the axis
+// travel in seconds at each axis's speed limit, and the time the axes would need beyond the
+// time the feed gives. The tracker then follows the planned joints (Tracker::follow).
+#pragma once
+
+#include <bitset>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/cell.hpp"
+#include "redpost/redundancy/lattice_dp.hpp"
+#include "redpost/redundancy/task_error.hpp"
+
+namespace redpost {
+
+// One keyframe: the TCP target (position and tool axis in {B}), its path length from the
+// window's start, the speed asked on the way to it (feed or rapid), and its CL line.
+struct PlanKeyframe {
+  TcpTarget target;
+  double s_mm = 0.0;
+  double speed_mm_s = 0.0;
+  int cl_line = 0;
+};
+
+enum class PlanPreset { smooth, stiff, fast };
+
+struct PathPlanSettings {
+  double keyframe_spacing_mm = 20.0;
+  // Lattice steps of the free joints: prismatic (mm), revolute (deg), the virtual spin (deg).
+  double prismatic_step_mm = 20.0;
+  double rotary_step_deg = 3.0;
+  double spin_step_deg = 10.0;
+  int reach = 1;  // lattice steps a free joint may change between keyframes
+  int beam = 48;  // nodes kept per keyframe
+  // The first keyframe of a program (no committed posture): every free joint sampled over its
+  // range in this many lattice steps at a time (a coarse first layer).
+  int first_layer_stride = 4;
+  int first_layer_max_nodes = 20000;
+  // Axis speeds are planned within this fraction of each limit, leaving the rest for the
+  // tracker's deviation from the plan and the controller's corners.
+  double speed_margin = 0.8;
+  // Cost weights (the preset sets them).
+  double w_limit = 1.0;  // per joint, (zone - margin)^2 / zone^2 inside the zone
+  // Joint centring of the arm (Andres eq. 13's first goal, as a cost): per arm joint,
+  // ((q - home) / half-range)^2. It makes the external axes carry the path.
+  double w_centre = 5.0;
+  double limit_zone = 0.1;   // fraction of the range
+  double w_condition = 1.0;  // (threshold - 1/kappa_F)^2 / threshold^2 below the threshold
+  double condition_threshold = 0.3;
+  double w_travel = 1.0;  // per second of external axis motion at its speed limit
+  // ... of arm axis motion: the arm's big axes swinging under a straight cut cost stiffness and
+  // accuracy (Caro 2014), so the track and the table should carry the path.
+  double w_travel_arm = 3.0;
+  double w_time = 20.0;  // per second the axes need beyond the time the feed gives
+  double max_arm_step_deg = 12.0;
+  // Keyframes each side of the moving average that smooths the lattice's steps (0: none).
+  int smoothing = 3;
+  // Joints held (not sampled): their value from the start posture or lock_value.
+  std::bitset<kMaxJoints> locked;
+  JointVector lock_value;  // DH units; NaN: hold at the start posture's value
+};
+
+PathPlanSettings plan_preset(PlanPreset preset);
+
+struct PlanWindowResult {
+  bool feasible = false;
+  int dead_keyframe = -1;      // the first keyframe no sequence reaches
+  int limiting_joint = -1;     // the joint most often out of its limits there (-1: unknown)
+  std::vector<JointVector> q;  // planned posture per keyframe
+  long ik_evaluations = 0;
+};
+
+class PathPlanner {
+ public:
+  // The solver keeps pointers: cell and ik must outlive it. Throws Error(bad_input) when the
+  // cell has more than kMaxFreeJoints free joints not locked, or a free joint the plan needs
+  // has no <speed>.
+  PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettings& settings);
+
+  // Plans the keyframes. start: the committed posture at keyframes[0] (its free joints are the
+  // lattice's origin, its posture kept); nullptr: the first keyframe is sampled over the free
+  // joints' ranges and every posture.
+  // beam > 0 overrides settings().beam (a wider search where the first found no sequence).
+  PlanWindowResult plan(const std::vector<PlanKeyframe>& keyframes, const JointVector* start,
+                        int beam = 0) const;
+
+  const std::vector<int>& free_joints() const { return free_; }
+  const PathPlanSettings& settings() const { return settings_; }
+
+ private:
+  bool evaluate(const PlanKeyframe& kf, const LatticeKey& key, const JointVector& origin,
+                const JointVector& q_near, JointVector& q, double& cost, int* limit_joint) const;
+  double edge_cost(const PlanKeyframe& from, const PlanKeyframe& to, const JointVector& q0,
+                   const JointVector& q1) const;
+  std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin) const;
+  void smooth(const std::vector<PlanKeyframe>& keyframes, const LatticeDpResult& r,
+              std::vector<JointVector>& q) const;
+
+  const Cell* cell_;
+  const ArmIk* ik_;
+  PathPlanSettings settings_;
+  std::vector<int> free_;
+  // Per joint: travel weight over the velocity limit (0: no limit known), 1 / (margin * limit),
+  // and whether it is an arm joint (its step between keyframes is bounded).
+  std::array<double, kMaxJoints> travel_per_unit_{}, need_per_unit_{};
+  std::bitset<kMaxJoints> arm_;                // chain indices of the sampled joints
+  std::array<double, kMaxFreeJoints> step_{};  // lattice step per free joint (DH units)
+};
+
+// The posture planned at path length s_mm, interpolated linearly between keyframes.
+JointVector interpolate_plan(const std::vector<PlanKeyframe>& keyframes,
+                             const std::vector<JointVector>& q, double s_mm);
+
+}  // namespace redpost

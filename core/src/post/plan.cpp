@@ -1,0 +1,285 @@
+// Whole-path planning in the session (docs/redundancy.md, "Whole-path planning"): the calls are
+// buffered until the path ahead covers the planning horizon (or a tool change or the end comes),
+// the free joints are planned over that window by dynamic programming (path_plan.hpp), the
+// first half of the window is committed, and the calls it covers are released to be tracked
+// and written, the tracker pulled towards the committed plan at every pose. The next window
+// starts from the last committed keyframe, so memory stays flat in the path's length.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "post/session_impl.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
+
+namespace redpost {
+
+namespace {
+
+bool is_motion(const ClEvent& e) {
+  return e.kind == ClEventKind::move || e.kind == ClEventKind::arc;
+}
+
+// Calls a buffer holds at most before a window is planned whatever its length.
+constexpr std::size_t kMaxDeferred = 20000;
+// Tool axis turn between keyframes at most (deg).
+constexpr double kTurnDeg = 5.0;
+
+// Walks the buffered calls along the path, as the session will track it (CL points in order,
+// arcs as their chords), placing a keyframe every `spacing` mm of path.
+struct KeyframeWalk {
+  const PostOptions& o;
+  double spacing;
+  std::vector<PlanKeyframe> kf;
+  Eigen::Vector3d p_cl, z_cl;  // the walker's CL point and tool axis (CL frame)
+  double s = 0.0;              // path length in {B} at p_cl
+  double next_kf_s = 0.0;      // where the next keyframe goes
+  double feed_mm_s = 0.0;
+  bool rapid_next = false;
+
+  PlanKeyframe at(const Eigen::Vector3d& p, const Eigen::Vector3d& z, double s_mm, double speed,
+                  int line) const {
+    PlanKeyframe k;
+    k.target = TcpTarget::axis(o.T_B_part * p, o.T_B_part.linear() * z.normalized());
+    k.s_mm = s_mm;
+    k.speed_mm_s = speed;
+    k.cl_line = line;
+    return k;
+  }
+
+  void segment(const Eigen::Vector3d& p1, const Eigen::Vector3d& z1, double speed, int line) {
+    const double length = (o.T_B_part.linear() * (p1 - p_cl)).norm();
+    const Eigen::Vector3d z1n = z1.normalized();
+    // Keyframes every `spacing` mm, and every kTurnDeg of tool axis turn: a 5-axis path may turn
+    // the tool fast over little length, and the plan must see the wrist's way through it.
+    const double turn = std::acos(std::clamp(z_cl.dot(z1n), -1.0, 1.0));
+    const int turns = static_cast<int>(std::ceil(rad_to_deg(turn) / kTurnDeg - 1e-9));
+    std::vector<double> at_t;
+    while (length > 0.0 && next_kf_s <= s + length - 1e-9) {
+      at_t.push_back((next_kf_s - s) / length);
+      next_kf_s += spacing;
+    }
+    for (int k = 1; k < turns; ++k)
+      at_t.push_back(static_cast<double>(k) / turns);
+    std::sort(at_t.begin(), at_t.end());
+    double last_t = -1.0;
+    for (double t : at_t) {
+      if (t - last_t < 1e-9)
+        continue;
+      last_t = t;
+      const Eigen::Vector3d z = ((1.0 - t) * z_cl + t * z1n).normalized();
+      kf.push_back(at(p_cl + t * (p1 - p_cl), z, s + t * length, speed, line));
+    }
+    if (turns > 1 && length <= 0.0)
+      kf.push_back(at(p1, z1n, s, speed, line));  // a pure turn: its end
+    s += length;
+    p_cl = p1;
+    z_cl = z1n;
+  }
+
+  // The path of one motion call; its end's s.
+  double motion(const ClEvent& e) {
+    const double speed = (e.rapid || rapid_next) ? 1000.0 * o.rapid_velocity_m_per_s : feed_mm_s;
+    rapid_next = false;
+    if (e.kind == ClEventKind::arc) {
+      const double norm = e.arc_axis.norm();
+      if (norm > 1e-9 && e.p_mm.allFinite() && e.arc_centre_mm.allFinite()) {
+        const detail::ArcBuild built =
+            detail::make_arc_chords(p_cl, e.arc_centre_mm, e.arc_axis / norm, e.value, e.p_mm,
+                                    o.arc_point_tolerance_mm, o.chordal_tolerance_mm);
+        if (built.problem == detail::ArcProblem::none) {
+          for (long k = 1; k <= built.arc.chords; ++k)
+            segment(built.arc.point(k), k == built.arc.chords ? e.tool_axis : z_cl, speed, e.line);
+          return s;
+        }
+      }
+    }
+    if (e.p_mm.allFinite() && e.tool_axis.allFinite() && e.tool_axis.norm() > 1e-9)
+      segment(e.p_mm, e.tool_axis, speed, e.line);
+    return s;
+  }
+};
+
+// Walks the buffered calls from index `from` (feeds, rapids, motions) up to a tool change or the
+// end; end_s gets each motion's path length at its end. Returns where the walk stopped.
+std::size_t walk_calls(const std::deque<ClEvent>& calls, std::size_t from, KeyframeWalk& w,
+                       std::vector<double>& end_s, bool& barrier) {
+  for (std::size_t i = from; i < calls.size(); ++i) {
+    const ClEvent& e = calls[i];
+    if (e.kind == ClEventKind::tool_change) {
+      barrier = true;
+      return i;
+    }
+    if (e.kind == ClEventKind::feed && std::isfinite(e.value) && e.value > 0.0)
+      w.feed_mm_s = e.value / 60.0;
+    else if (e.kind == ClEventKind::rapid)
+      w.rapid_next = true;
+    else if (is_motion(e))
+      end_s[i] = w.motion(e);
+  }
+  return calls.size();
+}
+
+}  // namespace
+
+void PostSession::Impl::reset_plan() {
+  plan_kf.clear();
+  plan_q.clear();
+  plan_s = 0.0;
+  tracker.stop_following();
+}
+
+const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
+  if (!planner || planner_cell != active_cell) {
+    std::string why;
+    const ArmIk* ik = arm_ik_for_active(why);
+    if (!ik) {
+      throw Error(ErrorCode::bad_input,
+                  "the whole-path plan needs the arm's closed-form inverse kinematics: " + why +
+                      " (use --plan local)",
+                  SourceLocation{o.source_name, cl_line, 0});
+    }
+    planner = std::make_unique<PathPlanner>(*active_cell, *ik, o.plan_settings);
+    planner_cell = active_cell;
+  }
+  return *planner;
+}
+
+void PostSession::Impl::follow_plan(double s_mm) {
+  if (plan_q.empty()) {
+    tracker.stop_following();
+    return;
+  }
+  tracker.follow(interpolate_plan(plan_kf, plan_q, s_mm), o.plan_follow_gain, 0.2);
+}
+
+// Commits the plan's keyframes up to commit_s (at least to the end of the first motion) and
+// returns how many buffered calls that releases: those whose motion ends within the committed
+// plan, and the calls after them up to the next motion that does not.
+std::size_t PostSession::Impl::commit_window(const std::vector<PlanKeyframe>& kf,
+                                             const std::vector<JointVector>& q,
+                                             const std::vector<double>& end_s, std::size_t end,
+                                             double commit_s, bool fresh) {
+  for (std::size_t k = 0; k < end; ++k) {
+    if (!std::isnan(end_s[k])) {
+      commit_s = std::max(commit_s, end_s[k]);
+      break;
+    }
+  }
+  std::size_t committed = 0;
+  while (committed + 1 < kf.size() && kf[committed + 1].s_mm <= commit_s + 1e-9)
+    ++committed;
+  if (kf[committed].s_mm + 1e-9 < commit_s && committed + 1 < kf.size())
+    ++committed;  // the first keyframe beyond an end that falls between keyframes
+  const double boundary_s = kf[committed].s_mm;
+  // Keep the committed keyframes the released calls still need (from the one before plan_s).
+  std::size_t keep_from = 0;
+  while (keep_from + 1 < plan_kf.size() && plan_kf[keep_from + 1].s_mm <= plan_s)
+    ++keep_from;
+  plan_kf.erase(plan_kf.begin(), plan_kf.begin() + static_cast<std::ptrdiff_t>(keep_from));
+  plan_q.erase(plan_q.begin(), plan_q.begin() + static_cast<std::ptrdiff_t>(keep_from));
+  for (std::size_t k = fresh ? 0 : 1; k <= committed; ++k) {
+    plan_kf.push_back(kf[k]);
+    plan_q.push_back(q[k]);
+  }
+  std::size_t n = 0;
+  while (n < end && (std::isnan(end_s[n]) || end_s[n] <= boundary_s + 1e-9))
+    ++n;
+  return n;
+}
+
+// Plans the next window when the buffer covers it (always with `flush`); returns how many
+// buffered calls to release (0: wait for more), with their path length at the end in
+// dispatch_end_s.
+std::size_t PostSession::Impl::plan_window(bool flush) {
+  dispatch_end_s.clear();
+  // Calls before the first motion go at once; a tool change ends the plan (a new TCP, and an
+  // approach from wherever the change leaves the robot).
+  std::size_t lead = 0;
+  while (lead < deferred.size() && !is_motion(deferred[lead])) {
+    if (deferred[lead].kind == ClEventKind::tool_change) {
+      reset_plan();
+      dispatch_end_s.assign(lead + 1, std::numeric_limits<double>::quiet_NaN());
+      return lead + 1;
+    }
+    ++lead;
+  }
+  if (lead > 0) {
+    dispatch_end_s.assign(lead, std::numeric_limits<double>::quiet_NaN());
+    return lead;
+  }
+  if (deferred.empty())
+    return 0;
+
+  const PathPlanSettings& ps = o.plan_settings;
+  const bool fresh = !started || approach_pending;
+  // After a stretch tracked pose by pose (no plan held), the next window starts where the
+  // tracker is.
+  const bool from_tracker = !fresh && plan_q.empty();
+  KeyframeWalk w{o, ps.keyframe_spacing_mm, {}, {}, {}, 0.0, 0.0, 0.0, next_rapid};
+  w.feed_mm_s = (std::isnan(feed_mm_per_min) ? o.default_feed_mm_per_min : feed_mm_per_min) / 60.0;
+  std::vector<double> end_s(deferred.size(), std::numeric_limits<double>::quiet_NaN());
+  std::size_t i = 0;
+  if (fresh) {
+    // The approach goes to the first point: the plan starts there.
+    const ClEvent& e0 = deferred[0];
+    w.p_cl = e0.p_mm;
+    w.z_cl = e0.tool_axis.normalized();
+    w.kf.push_back(w.at(w.p_cl, w.z_cl, 0.0, w.feed_mm_s, e0.line));
+    w.rapid_next = false;
+    end_s[0] = 0.0;
+    i = 1;
+  } else {
+    w.p_cl = last_cl_point;
+    w.z_cl = last_cl_axis;
+    w.s = plan_s;
+    if (from_tracker)
+      w.kf.push_back(w.at(w.p_cl, w.z_cl, plan_s, w.feed_mm_s, deferred[0].line));
+    else
+      w.kf.push_back(plan_kf.back());
+  }
+  w.next_kf_s = w.kf.back().s_mm + ps.keyframe_spacing_mm;
+  bool barrier = false;
+  const std::size_t end = walk_calls(deferred, i, w, end_s, barrier);
+  const double start_s = w.kf.front().s_mm;
+  if (!flush && !barrier && w.s - start_s < o.plan_horizon_mm && deferred.size() < kMaxDeferred)
+    return 0;
+  // A keyframe at the end of the buffered path, so that the window covers every call in it.
+  if (w.s > w.kf.back().s_mm + 1e-6)
+    w.kf.push_back(w.at(w.p_cl, w.z_cl, w.s, w.kf.back().speed_mm_s, w.kf.back().cl_line));
+
+  const PathPlanner& pl = planner_for_active(w.kf.front().cl_line);
+  const JointVector start_q = fresh ? JointVector() : from_tracker ? tracker.q() : plan_q.back();
+  PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q);
+  ++plan_windows;
+  plan_ik_evaluations += r.ik_evaluations;
+  if (!r.feasible) {
+    // The beam may have lost the way: search wider once.
+    r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam);
+    plan_ik_evaluations += r.ik_evaluations;
+  }
+  if (!r.feasible) {
+    // No sequence on the lattice: this stretch is tracked pose by pose (Algorithm 1), which
+    // fails with its own message (the CL line, the joint, the advice) where the path is out of
+    // reach indeed, and goes on where only the lattice was too coarse.
+    const int first_line = w.kf.front().cl_line;
+    const int dead_line = w.kf[static_cast<std::size_t>(std::max(r.dead_keyframe, 0))].cl_line;
+    summary.warnings.push_back(fmt::format(
+        "{}:{}-{}: the whole-path plan found no posture sequence on its lattice here; this "
+        "stretch is tracked pose by pose (docs/redundancy.md)",
+        o.source_name, first_line, dead_line));
+    reset_plan();
+    plan_s = w.kf.front().s_mm;
+    dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(end));
+    return end;
+  }
+
+  // Commit three quarters of the window (all of it at the end or before a tool change), and
+  // at least up to the end of the first motion.
+  const double commit_s = (flush || barrier) ? w.s : start_s + 0.75 * o.plan_horizon_mm;
+  const std::size_t n = commit_window(w.kf, r.q, end_s, end, commit_s, fresh);
+  dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(n));
+  return n;
+}
+
+}  // namespace redpost

@@ -1,0 +1,347 @@
+// Whole-path planning of the free joints (path_plan.hpp, docs/redundancy.md).
+#include "redpost/redundancy/path_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/conditioning.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/jacobian.hpp"
+#include "redpost/kinematics/status_turn.hpp"
+
+namespace redpost {
+
+namespace {
+
+// The TCP frame of a 5-DOF target: z the tool axis, x a fixed choice across it. The spin about
+// z is the virtual joint's business (its lattice value), not the frame's.
+Isometry target_frame(const TcpTarget& t) {
+  const Eigen::Vector3d z = t.z_B.normalized();
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - z.x() * z;
+  if (x.norm() < 1e-6)
+    x = Eigen::Vector3d::UnitY() - z.y() * z;
+  x.normalize();
+  Isometry T = Isometry::Identity();
+  T.linear().col(0) = x;
+  T.linear().col(1) = z.cross(x);
+  T.linear().col(2) = z;
+  T.translation() = t.p_B_mm;
+  return T;
+}
+
+bool is_arm_joint(const ArmIk& ik, int i) {
+  return std::find(ik.arm_joints().begin(), ik.arm_joints().end(), i) != ik.arm_joints().end();
+}
+
+// Range of a joint sampled in a program's first layer: one turn around home at most.
+void first_range(const Joint& j, double& lo, double& hi) {
+  lo = j.lower;
+  hi = j.upper;
+  if (j.type != JointType::prismatic && hi - lo > 2.0 * kPi) {
+    lo = std::max(lo, j.home - kPi);
+    hi = std::min(hi, j.home + kPi);
+  }
+}
+
+}  // namespace
+
+PathPlanSettings plan_preset(PlanPreset preset) {
+  PathPlanSettings s;
+  switch (preset) {
+    case PlanPreset::smooth:
+      break;
+    case PlanPreset::stiff:
+      // Conditioning first: the arm kept far from singular postures at the price of travel.
+      s.w_condition = 10.0;
+      s.condition_threshold = 0.4;
+      s.w_travel = 0.3;
+      s.w_travel_arm = 1.0;
+      break;
+    case PlanPreset::fast:
+      // Time first: every second the axes would add weighs more, travel less.
+      s.w_time = 100.0;
+      s.w_travel = 0.3;
+      s.w_travel_arm = 1.0;
+      break;
+  }
+  return s;
+}
+
+PathPlanner::PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettings& settings)
+    : cell_(&cell), ik_(&ik), settings_(settings) {
+  for (int i = 0; i < cell.size(); ++i) {
+    const Joint& j = cell.joint(i);
+    const auto iu = static_cast<std::size_t>(i);
+    arm_.set(iu, is_arm_joint(ik, i));
+    if (j.has_speed()) {
+      travel_per_unit_[iu] =
+          (arm_.test(iu) ? settings.w_travel_arm : settings.w_travel) / j.max_velocity;
+      need_per_unit_[iu] = 1.0 / (settings.speed_margin * j.max_velocity);
+    }
+  }
+  for (int i = 0; i < cell.size(); ++i) {
+    if (is_arm_joint(ik, i) || settings.locked.test(static_cast<std::size_t>(i)))
+      continue;
+    const Joint& j = cell.joint(i);
+    if (j.type != JointType::virtual_spin && !j.has_speed()) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("joint '{}' has no <speed>: the whole-path plan needs every "
+                              "axis's velocity and acceleration (docs/cell-format.md), or use "
+                              "--plan local",
+                              j.name),
+                  SourceLocation{cell.source_file, j.source_line, 0});
+    }
+    if (static_cast<int>(free_.size()) == kMaxFreeJoints) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("the cell has more than {} joints besides the arm to plan ('{}' is "
+                              "one too many): lock one (--lock)",
+                              kMaxFreeJoints, j.name),
+                  SourceLocation{cell.source_file, j.source_line, 0});
+    }
+    step_[free_.size()] = j.type == JointType::prismatic  ? settings.prismatic_step_mm
+                          : j.type == JointType::revolute ? deg_to_rad(settings.rotary_step_deg)
+                                                          : deg_to_rad(settings.spin_step_deg);
+    free_.push_back(i);
+  }
+}
+
+bool PathPlanner::evaluate(const PlanKeyframe& kf, const LatticeKey& key, const JointVector& origin,
+                           const JointVector& q_near, JointVector& q, double& cost,
+                           int* limit_joint) const {
+  const Cell& cell = *cell_;
+  JointVector q_other = origin;
+  for (std::size_t f = 0; f < free_.size(); ++f) {
+    const int i = free_[f];
+    const double v = origin[i] + key.step[f] * step_[f];
+    const Joint& j = cell.joint(i);
+    if (v < j.lower || v > j.upper)
+      return false;
+    q_other[i] = v;
+  }
+  const ArmIkSolutions sol = ik_->solve(target_frame(kf.target), q_other, &q_near);
+  const auto mu = static_cast<std::size_t>(key.posture);
+  if (!sol.valid[mu]) {
+    if (limit_joint && sol.exists[mu]) {
+      for (int i : ik_->arm_joints()) {
+        const Joint& j = cell.joint(i);
+        if (sol.q[mu][i] < j.lower || sol.q[mu][i] > j.upper)
+          *limit_joint = i;
+      }
+    }
+    return false;
+  }
+  q = sol.q[mu];
+  const PathPlanSettings& s = settings_;
+  cost = 0.0;
+  for (int i = 0; i < cell.size(); ++i) {
+    const Joint& j = cell.joint(i);
+    const double range = j.upper - j.lower;
+    if (!(range > 0.0))
+      continue;
+    if (s.w_centre > 0.0 && arm_.test(static_cast<std::size_t>(i))) {
+      const double c = (q[i] - j.home) / (0.5 * range);
+      cost += s.w_centre * c * c;
+    }
+    const double margin = std::min(q[i] - j.lower, j.upper - q[i]) / range;
+    if (margin < s.limit_zone) {
+      const double d = (s.limit_zone - margin) / s.limit_zone;
+      cost += s.w_limit * d * d;
+    }
+  }
+  if (s.w_condition > 0.0 && cell.conditioning.declared()) {
+    KinematicsData data;
+    Jacobian J;
+    forward_kinematics(cell, q, data, false);
+    tcp_jacobian(cell, data, J);
+    const double inv_kappa = arm_inverse_condition(cell, J);
+    if (inv_kappa < s.condition_threshold) {
+      const double d = (s.condition_threshold - inv_kappa) / s.condition_threshold;
+      cost += s.w_condition * d * d;
+    }
+  }
+  return true;
+}
+
+double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
+                              const JointVector& q0, const JointVector& q1) const {
+  const PathPlanSettings& s = settings_;
+  const double ds = std::max(to.s_mm - from.s_mm, 0.0);
+  const double dt = to.speed_mm_s > 0.0 ? ds / to.speed_mm_s : 0.0;
+  const double max_arm_step = deg_to_rad(s.max_arm_step_deg);
+  double travel_s = 0.0, need_s = 0.0;
+  for (int i = 0; i < cell_->size(); ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    const double dq = std::fabs(q1[i] - q0[i]);
+    if (arm_.test(iu) && dq > max_arm_step)
+      return std::numeric_limits<double>::infinity();
+    travel_s += travel_per_unit_[iu] * dq;
+    need_s = std::max(need_s, need_per_unit_[iu] * dq);
+  }
+  return travel_s + s.w_time * std::max(0.0, need_s - dt);
+}
+
+std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf,
+                                                 JointVector& origin) const {
+  (void)kf;
+  const Cell& cell = *cell_;
+  std::array<int, kMaxFreeJoints> lo{}, hi{};
+  for (std::size_t f = 0; f < free_.size(); ++f) {
+    const Joint& j = cell.joint(free_[f]);
+    double a = 0.0, b = 0.0;
+    first_range(j, a, b);
+    origin[free_[f]] = j.home;
+    lo[f] = static_cast<int>(std::ceil((a - j.home) / step_[f] - 1e-9));
+    hi[f] = static_cast<int>(std::floor((b - j.home) / step_[f] + 1e-9));
+  }
+  int stride = std::max(1, settings_.first_layer_stride);
+  auto count = [&](int st) {
+    long n = 8;
+    for (std::size_t f = 0; f < free_.size(); ++f)
+      n *= (hi[f] - lo[f]) / st + 1;
+    return n;
+  };
+  while (count(stride) > settings_.first_layer_max_nodes)
+    ++stride;
+  std::vector<LatticeKey> keys;
+  LatticeKey k;
+  // Odometer over the free joints, the posture innermost (one solve serves all eight).
+  std::array<int, kMaxFreeJoints> at = lo;
+  while (true) {
+    for (int mu = 0; mu < 8; ++mu) {
+      k.step = at;
+      k.posture = mu;
+      keys.push_back(k);
+    }
+    std::size_t f = 0;
+    for (; f < free_.size(); ++f) {
+      at[f] += stride;
+      if (at[f] <= hi[f])
+        break;
+      at[f] = lo[f];
+    }
+    if (f == free_.size())
+      break;
+  }
+  return keys;
+}
+
+PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
+                                   const JointVector* start, int beam) const {
+  PlanWindowResult out;
+  if (keyframes.empty())
+    return out;
+  const Cell& cell = *cell_;
+  JointVector origin(cell.size());
+  for (int i = 0; i < cell.size(); ++i)
+    origin[i] = cell.joint(i).home;
+  std::vector<LatticeKey> first;
+  if (start) {
+    origin = *start;
+    LatticeKey k;
+    k.posture = status_turn(cell, ik_->status_model(), *start).status;
+    first.push_back(k);
+  } else {
+    first = first_layer(keyframes.front(), origin);
+  }
+  for (int i = 0; i < cell.size(); ++i) {
+    if (settings_.locked.test(static_cast<std::size_t>(i)) && settings_.lock_value.size() > i &&
+        std::isfinite(settings_.lock_value[i]))
+      origin[i] = settings_.lock_value[i];
+  }
+  const JointVector q_near = origin;
+  LatticeDpSettings dp;
+  dp.free_joints = static_cast<int>(free_.size());
+  dp.reach = {settings_.reach, settings_.reach, settings_.reach};
+  dp.beam = beam > 0 ? beam : settings_.beam;
+  std::vector<int> limit_hits(static_cast<std::size_t>(cell.size()), 0);
+  const LatticeDpResult r = lattice_dp(
+      static_cast<int>(keyframes.size()), first, dp,
+      [&](int layer, const LatticeKey& key, JointVector& q, double& cost) {
+        int limit_joint = -1;
+        const bool ok = evaluate(keyframes[static_cast<std::size_t>(layer)], key, origin, q_near, q,
+                                 cost, &limit_joint);
+        if (limit_joint >= 0)
+          ++limit_hits[static_cast<std::size_t>(limit_joint)];
+        return ok;
+      },
+      [&](int layer, const LatticeNode& a, const LatticeNode& b) {
+        return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
+                         keyframes[static_cast<std::size_t>(layer)], a.q, b.q);
+      });
+  out.ik_evaluations = r.evaluations;
+  if (!r.feasible) {
+    out.dead_keyframe = r.dead_layer;
+    const auto most = std::max_element(limit_hits.begin(), limit_hits.end());
+    out.limiting_joint = *most > 0 ? static_cast<int>(most - limit_hits.begin()) : -1;
+    return out;
+  }
+  out.feasible = true;
+  out.q.reserve(r.path.size());
+  for (const LatticeNode& n : r.path)
+    out.q.push_back(n.q);
+  smooth(keyframes, r, out.q);
+  return out;
+}
+
+// The lattice quantises the free joints: a step of a lattice unit at one keyframe and none at the
+// next is a jump in the axis's rate. A centred moving average over the keyframes (two passes of
+// settings.smoothing keyframes each side) smooths it; the arm is solved again for the smoothed
+// free joints, and a keyframe whose smoothed posture is not valid keeps the lattice's. The
+// first keyframe (the committed start of a window) stays as it is.
+void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const LatticeDpResult& r,
+                         std::vector<JointVector>& q) const {
+  const int n = static_cast<int>(q.size());
+  const int half = settings_.smoothing;
+  if (half <= 0 || n < 3)
+    return;
+  std::vector<JointVector> free_values = q;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::vector<JointVector> before = free_values;
+    for (int k = 1; k < n; ++k) {
+      const int a = std::max(0, k - half), b = std::min(n - 1, k + half);
+      const int w = std::min(k - a, b - k);  // symmetric, so the ends are not dragged
+      for (int f : free_) {
+        double sum = 0.0;
+        for (int m = k - w; m <= k + w; ++m)
+          sum += before[static_cast<std::size_t>(m)][f];
+        free_values[static_cast<std::size_t>(k)][f] = sum / (2 * w + 1);
+      }
+    }
+  }
+  for (int k = 1; k < n; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    JointVector q_other = q[ku];
+    for (int f : free_)
+      q_other[f] = free_values[ku][f];
+    const ArmIkSolutions sol = ik_->solve(target_frame(keyframes[ku].target), q_other, &q[ku]);
+    const auto mu = static_cast<std::size_t>(r.path[ku].key.posture);
+    if (!sol.valid[mu])
+      continue;
+    bool near = true;
+    for (int i : ik_->arm_joints())
+      near = near && std::fabs(sol.q[mu][i] - q[ku][i]) < deg_to_rad(settings_.max_arm_step_deg);
+    if (near)
+      q[ku] = sol.q[mu];
+  }
+}
+
+JointVector interpolate_plan(const std::vector<PlanKeyframe>& keyframes,
+                             const std::vector<JointVector>& q, double s_mm) {
+  if (s_mm <= keyframes.front().s_mm)
+    return q.front();
+  if (s_mm >= keyframes.back().s_mm)
+    return q.back();
+  const auto it = std::upper_bound(keyframes.begin(), keyframes.end(), s_mm,
+                                   [](double s, const PlanKeyframe& k) { return s < k.s_mm; });
+  const std::size_t b = static_cast<std::size_t>(it - keyframes.begin());
+  const std::size_t a = b - 1;
+  const double span = keyframes[b].s_mm - keyframes[a].s_mm;
+  const double t = span > 0.0 ? (s_mm - keyframes[a].s_mm) / span : 1.0;
+  return q[a] + t * (q[b] - q[a]);
+}
+
+}  // namespace redpost

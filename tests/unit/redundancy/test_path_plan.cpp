@@ -1,0 +1,286 @@
+// Whole-path planning (lattice_dp.hpp, path_plan.hpp): the layered dynamic programming finds the
+// same minimum as a brute-force enumeration of every key sequence on small lattices, the beam
+// only ever costs optimality, and the planner on the reference cell gives postures that reach
+// every keyframe exactly, keep every axis within its speed at the feed, and follow a long pass
+// with the track instead of swinging it.
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "catch_compat.hpp"
+#include "redpost/io/error.hpp"
+#include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/redundancy/lattice_dp.hpp"
+#include "redpost/redundancy/path_plan.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+
+namespace {
+
+// A synthetic problem on a lattice of `dims` free joints with keys in [-R, R]^dims: seeded
+// random node costs (some keys infeasible) and edge costs (some edges forbidden).
+struct Toy {
+  int dims = 1, R = 2, layers = 4, reach = 1;
+  std::uint64_t seed = 1;
+
+  static double hash01(std::uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdull;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ull;
+    x ^= x >> 33;
+    return static_cast<double>(x % 1000003) / 1000003.0;
+  }
+  std::uint64_t code(int layer, const LatticeKey& k) const {
+    std::uint64_t c = seed * 1315423911ull + static_cast<std::uint64_t>(layer);
+    for (int j = 0; j < dims; ++j)
+      c = c * 131 + static_cast<std::uint64_t>(k.step[static_cast<std::size_t>(j)] + 50);
+    return c;
+  }
+  bool inside(const LatticeKey& k) const {
+    for (int j = 0; j < dims; ++j) {
+      if (std::abs(k.step[static_cast<std::size_t>(j)]) > R)
+        return false;
+    }
+    return true;
+  }
+  bool node(int layer, const LatticeKey& k, double& cost) const {
+    if (!inside(k))
+      return false;
+    const double u = hash01(code(layer, k));
+    if (u < 0.15)
+      return false;  // infeasible here
+    cost = 10.0 * u;
+    return true;
+  }
+  double edge(int layer, const LatticeKey& a, const LatticeKey& b) const {
+    const double u = hash01(code(layer, a) * 7919 + code(layer + 100, b));
+    if (u < 0.1)
+      return std::numeric_limits<double>::infinity();
+    double d = 0.0;
+    for (int j = 0; j < dims; ++j)
+      d += std::abs(a.step[static_cast<std::size_t>(j)] - b.step[static_cast<std::size_t>(j)]);
+    return 3.0 * u + d;
+  }
+  std::vector<LatticeKey> all_keys() const {
+    std::vector<LatticeKey> out;
+    LatticeKey k;
+    std::function<void(int)> rec = [&](int j) {
+      if (j == dims) {
+        out.push_back(k);
+        return;
+      }
+      for (int v = -R; v <= R; ++v) {
+        k.step[static_cast<std::size_t>(j)] = v;
+        rec(j + 1);
+      }
+    };
+    rec(0);
+    return out;
+  }
+  // The minimum over every sequence of keys, one per layer, each step within the reach.
+  double brute_force() const {
+    const std::vector<LatticeKey> keys = all_keys();
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<LatticeKey> seq(static_cast<std::size_t>(layers));
+    std::function<void(int, double)> rec = [&](int layer, double so_far) {
+      if (layer == layers) {
+        best = std::min(best, so_far);
+        return;
+      }
+      for (const LatticeKey& k : keys) {
+        double c = 0.0;
+        if (!node(layer, k, c))
+          continue;
+        double e = 0.0;
+        if (layer > 0) {
+          const LatticeKey& p = seq[static_cast<std::size_t>(layer - 1)];
+          bool near = true;
+          for (int j = 0; j < dims; ++j)
+            near = near && std::abs(p.step[static_cast<std::size_t>(j)] -
+                                    k.step[static_cast<std::size_t>(j)]) <= reach;
+          if (!near)
+            continue;
+          e = edge(layer, p, k);
+          if (!std::isfinite(e))
+            continue;
+        }
+        seq[static_cast<std::size_t>(layer)] = k;
+        rec(layer + 1, so_far + c + e);
+      }
+    };
+    rec(0, 0.0);
+    return best;
+  }
+  LatticeDpResult dp(int beam) const {
+    LatticeDpSettings s;
+    s.free_joints = dims;
+    s.reach = {reach, reach, reach};
+    s.beam = beam;
+    return lattice_dp(
+        layers, all_keys(), s,
+        [&](int layer, const LatticeKey& k, JointVector& q, double& cost) {
+          q.setZero(1);
+          return node(layer, k, cost);
+        },
+        [&](int layer, const LatticeNode& a, const LatticeNode& b) {
+          return edge(layer, a.key, b.key);
+        });
+  }
+};
+
+}  // namespace
+
+TEST_CASE("lattice_dp: the exact minimum of a brute-force enumeration on small lattices",
+          "[path_plan]") {
+  int feasible = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    Toy t;
+    t.seed = seed;
+    t.dims = 1 + static_cast<int>(seed % 2);
+    t.R = t.dims == 1 ? 3 : 1;
+    t.layers = t.dims == 1 ? 6 : 4;
+    INFO("seed " << seed << ", " << t.dims << " free joints");
+    const double brute = t.brute_force();
+    const LatticeDpResult r = t.dp(0);
+    REQUIRE(r.feasible == std::isfinite(brute));
+    if (!r.feasible)
+      continue;
+    ++feasible;
+    CHECK(r.cost == Approx(brute).epsilon(1e-12));
+    // The path is consistent: its own costs add up to the total, steps within the reach.
+    double sum = 0.0;
+    for (int layer = 0; layer < t.layers; ++layer) {
+      const LatticeKey& k = r.path[static_cast<std::size_t>(layer)].key;
+      double c = 0.0;
+      REQUIRE(t.node(layer, k, c));
+      sum += c;
+      if (layer > 0) {
+        const LatticeKey& p = r.path[static_cast<std::size_t>(layer - 1)].key;
+        for (int j = 0; j < t.dims; ++j)
+          CHECK(std::abs(p.step[static_cast<std::size_t>(j)] -
+                         k.step[static_cast<std::size_t>(j)]) <= t.reach);
+        sum += t.edge(layer, p, k);
+      }
+    }
+    CHECK(sum == Approx(r.cost).epsilon(1e-12));
+    // A beam can only lose optimality, never find a cheaper path than the exact one.
+    const LatticeDpResult b = t.dp(2);
+    if (b.feasible)
+      CHECK(b.cost >= r.cost - 1e-12);
+  }
+  CHECK(feasible >= 20);
+}
+
+TEST_CASE("lattice_dp: a layer no key reaches is reported", "[path_plan]") {
+  LatticeDpSettings s;
+  s.free_joints = 1;
+  const LatticeDpResult r = lattice_dp(
+      5, {LatticeKey{}}, s,
+      [](int layer, const LatticeKey& k, JointVector& q, double& cost) {
+        q.setZero(1);
+        cost = 0.0;
+        return layer < 3 || k.step[0] > 5;  // from layer 3 on only keys out of reach
+      },
+      [](int, const LatticeNode&, const LatticeNode&) { return 0.0; });
+  CHECK_FALSE(r.feasible);
+  CHECK(r.dead_layer == 3);
+}
+
+namespace {
+
+std::vector<PlanKeyframe> straight_pass(double from_y, double to_y, double spacing,
+                                        double feed_mm_per_min) {
+  std::vector<PlanKeyframe> kf;
+  const int n = static_cast<int>(std::round(std::fabs(to_y - from_y) / spacing));
+  for (int k = 0; k <= n; ++k) {
+    PlanKeyframe f;
+    const double y = from_y + (to_y - from_y) * k / n;
+    f.target = TcpTarget::axis(Eigen::Vector3d(-100.0, y, 60.0), Eigen::Vector3d::UnitZ());
+    f.s_mm = std::fabs(y - from_y);
+    f.speed_mm_s = feed_mm_per_min / 60.0;
+    f.cl_line = 10 + k;
+    kf.push_back(f);
+  }
+  return kf;
+}
+
+}  // namespace
+
+TEST_CASE("path_plan: a 1500 mm pass on the reference cell, planned from scratch", "[path_plan]") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const ArmIk ik(cell);
+  const PathPlanSettings settings = plan_preset(PlanPreset::smooth);
+  const PathPlanner planner(cell, ik, settings);
+  REQUIRE(planner.free_joints().size() == 3);
+  const std::vector<PlanKeyframe> kf = straight_pass(-300.0, -1800.0, 20.0, 10000.0);
+  const PlanWindowResult r = planner.plan(kf, nullptr);
+  REQUIRE(r.feasible);
+  REQUIRE(r.q.size() == kf.size());
+  double track_travel = 0.0;
+  for (std::size_t k = 0; k < kf.size(); ++k) {
+    INFO("keyframe " << k);
+    // Every planned posture reaches its keyframe (FK, independent of the IK).
+    const Isometry T = tcp_pose(cell, r.q[k]);
+    CHECK((T.translation() - kf[k].target.p_B_mm).norm() < 1e-6);
+    CHECK((T.linear().col(2) - kf[k].target.z_B).norm() < 1e-9);
+    for (int i = 0; i < cell.size(); ++i) {
+      CHECK(r.q[k][i] >= cell.joint(i).lower);
+      CHECK(r.q[k][i] <= cell.joint(i).upper);
+    }
+    if (k == 0)
+      continue;
+    track_travel += std::fabs(r.q[k][1] - r.q[k - 1][1]);
+    // Within every axis's velocity limit at 10 000 mm/min between keyframes.
+    const double dt = (kf[k].s_mm - kf[k - 1].s_mm) / kf[k].speed_mm_s;
+    for (int i = 0; i < cell.size(); ++i) {
+      if (cell.joint(i).has_speed())
+        CHECK(std::fabs(r.q[k][i] - r.q[k - 1][i]) / dt <= cell.joint(i).max_velocity);
+    }
+  }
+  // The track carries the pass (issue 17: at least 1400 mm of the 1500, at most 1650 mm of
+  // travel in all), without going back and forth.
+  const double track_net = std::fabs(r.q.back()[1] - r.q.front()[1]);
+  CHECK(track_net >= 1400.0);
+  CHECK(track_travel <= 1650.0);
+  CHECK(track_travel <= 1.05 * track_net + 1e-9);
+}
+
+TEST_CASE("path_plan: a window continues from a committed posture and keeps its posture",
+          "[path_plan]") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const ArmIk ik(cell);
+  const PathPlanner planner(cell, ik, plan_preset(PlanPreset::smooth));
+  const std::vector<PlanKeyframe> kf = straight_pass(-300.0, -700.0, 20.0, 3000.0);
+  const PlanWindowResult first = planner.plan(kf, nullptr);
+  REQUIRE(first.feasible);
+  const JointVector start = first.q[10];
+  std::vector<PlanKeyframe> rest(kf.begin() + 10, kf.end());
+  const PlanWindowResult next = planner.plan(rest, &start);
+  REQUIRE(next.feasible);
+  const StatusTurn st = status_turn(cell, ik.status_model(), start);
+  for (const JointVector& q : next.q)
+    CHECK(status_turn(cell, ik.status_model(), q).status == st.status);
+  // Its first posture is the committed one's free joints, the arm solved for them.
+  for (int f : planner.free_joints())
+    CHECK(next.q.front()[f] == Approx(start[f]).margin(1e-12));
+}
+
+TEST_CASE("path_plan: a free joint without <speed> is refused naming the cell's line",
+          "[path_plan]") {
+  Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  cell.joints[1].max_velocity = 0.0;
+  const ArmIk ik(cell);
+  try {
+    const PathPlanner planner(cell, ik, plan_preset(PlanPreset::smooth));
+    FAIL("accepted a track without a speed");
+  } catch (const Error& e) {
+    CHECK(e.where().line == cell.joint(1).source_line);
+    CHECK(std::string(e.what()).find("has no <speed>") != std::string::npos);
+  }
+}
