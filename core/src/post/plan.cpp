@@ -1,16 +1,15 @@
 // Whole-path planning in the session (docs/redundancy.md, "Whole-path planning"): the calls are
 // buffered until the path ahead covers the planning horizon (or a tool change or the end comes),
 // the free joints are planned over that window by dynamic programming (path_plan.hpp), the
-// first half of the window is committed, and the calls it covers are released to be tracked
-// and written, the tracker pulled towards the committed plan at every pose. The next window
-// starts from the last committed keyframe, so memory stays flat in the path's length.
+// first three quarters of the window are committed, and the calls they cover are released to be
+// tracked and written, the tracker pulled towards the committed plan at every pose. The next
+// window starts from the last committed keyframe, so memory stays flat in the path's length.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
-#include "redpost/kinematics/controller_axes.hpp"
 
 namespace redpost {
 
