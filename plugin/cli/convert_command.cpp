@@ -116,15 +116,6 @@ std::string joint_value_text(const rp_joint_range_info& j, double v) {
   return fmt::format(j.prismatic ? "{:.1f} mm" : "{:.2f} deg", v);
 }
 
-std::string duration_text(double s) {
-  if (s < 60.0)
-    return fmt::format("{:.1f} s", s);
-  const long minutes = static_cast<long>(s / 60.0);
-  if (minutes < 60)
-    return fmt::format("{} min {:.1f} s", minutes, s - 60.0 * minutes);
-  return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
-}
-
 // The time model (docs/timing.md): cycle time, the axes against their limits, and the
 // stretches where an axis keeps the feed below the CL file's.
 void print_timing(const rp_session* session) {

@@ -409,15 +409,6 @@ void add_solver_and_feed_section(rep::HtmlReport& r, const ConvertReport::Impl& 
   r.add_plot(std::move(fp));
 }
 
-std::string duration_text(double s) {
-  if (s < 60.0)
-    return fmt::format("{:.1f} s", s);
-  const long minutes = static_cast<long>(s / 60.0);
-  if (minutes < 60)
-    return fmt::format("{} min {:.1f} s", minutes, s - 60.0 * minutes);
-  return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
-}
-
 // The time model (docs/timing.md): cycle time, every axis's speed against its limit along the
 // path, the path speed against the feed, and where an axis keeps the feed low.
 void add_speed_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
@@ -565,6 +556,15 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
     // Write errors are Errors naming the file already; the location names it for the rest.
     throw Error(ErrorCode::io, std::string("report: ") + e.what(), SourceLocation{path, 0, 0});
   }
+}
+
+std::string duration_text(double s) {
+  if (s < 60.0)
+    return fmt::format("{:.1f} s", s);
+  const long minutes = static_cast<long>(s / 60.0);
+  if (minutes < 60)
+    return fmt::format("{} min {:.1f} s", minutes, s - 60.0 * minutes);
+  return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
 }
 
 }  // namespace redpost::cli

@@ -44,4 +44,7 @@ class ConvertReport {
   std::unique_ptr<Impl> impl_;
 };
 
+// A duration as the summary and the report print it: "42.0 s", "3 min 5.2 s", "2 h 56 min 5 s".
+std::string duration_text(double s);
+
 }  // namespace redpost::cli

@@ -10,23 +10,10 @@ travel per mm of path. Fails when a given bound is broken.
 """
 import re
 import sys
-from pathlib import Path
+
+from speed_check import program_lines  # the same reading of a (split) program
 
 NUM = r"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?"
-
-
-def program_lines(src):
-    folder = Path(src).parent
-    out = []
-    for line in Path(src).read_text().splitlines():
-        code = line.strip()
-        m = re.match(r"^(\w+)\( \)$", code)
-        part = folder / (m.group(1) + ".src") if m else None
-        if part is not None and part.exists() and part.resolve() != Path(src).resolve():
-            out.extend(program_lines(part))
-        else:
-            out.append(code)
-    return out
 
 
 def main(argv):

@@ -134,35 +134,10 @@ bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector&
     Isometry T = Isometry::Identity();
     T.linear() = r0.slerp(s, r1).toRotationMatrix();
     T.translation() = o.T_B_base * path.at(s);
-    const ArmIkSolutions sol = ik->solve(T, q_other, &q_prev);
-    if (!sol.valid[static_cast<size_t>(status)]) {
-      why = fmt::format("at {:.0f} % of the arc the arm cannot keep its posture within the limits",
-                        100.0 * s);
+    if (!detail::replay_sample(*ik, T, q_other, status, s, ds, "arc", q_prev, peak_rate, why))
       return false;
-    }
-    const JointVector& q = sol.q[static_cast<size_t>(status)];
-    for (int m = 0; m < 6; ++m) {
-      const int i = ik->arm_joints()[static_cast<size_t>(m)];
-      if (std::fabs(q[i] - q_prev[i]) > deg_to_rad(10.0)) {
-        why = fmt::format("A{} would jump by {:.1f} deg at {:.0f} % of the arc", m + 1,
-                          rad_to_deg(std::fabs(q[i] - q_prev[i])), 100.0 * s);
-        return false;
-      }
-      peak_rate[i] = std::max(peak_rate[i], std::fabs(q[i] - q_prev[i]) / ds);
-    }
-    q_prev = q;
   }
-  for (int m = 0; m < 6; ++m) {
-    const int i = ik->arm_joints()[static_cast<size_t>(m)];
-    if (std::fabs(q_prev[i] - q1[i]) > deg_to_rad(0.01)) {
-      why = fmt::format(
-          "the controller would end the arc with A{} {:.3f} deg from the tracked "
-          "posture",
-          m + 1, rad_to_deg(std::fabs(q_prev[i] - q1[i])));
-      return false;
-    }
-  }
-  return true;
+  return detail::replay_ends_at(*ik, q_prev, q1, "arc", why);
 }
 
 // Tracks the arc's chords without writing them, proves the CIRC and writes it. False (tracker

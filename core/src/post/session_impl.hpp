@@ -33,6 +33,21 @@ struct ClearancePlane {
   double height(const Eigen::Vector3d& p) const { return normal.dot(p - point); }
 };
 
+namespace detail {
+
+// One sample of a replayed controller motion (lin_replay, circ_replay_ok; `what` is "line" or
+// "arc"): the arm solved in closed form for the start's Status at T with the other joints from
+// q_other, within its limits and without an arm joint jumping more than 10 deg from q_prev; the
+// peak |dq/ds| of the arm joints updated. False with why; q_prev becomes the sample's posture.
+bool replay_sample(const ArmIk& ik, const Isometry& T, const JointVector& q_other, int status,
+                   double s, double ds, const char* what, JointVector& q_prev,
+                   JointVector& peak_rate, std::string& why);
+// The replay ended at q_end: false (with why) if an arm joint is more than 0.01 deg from q1.
+bool replay_ends_at(const ArmIk& ik, const JointVector& q_end, const JointVector& q1,
+                    const char* what, std::string& why);
+
+}  // namespace detail
+
 struct PostSession::Impl {
   const Cell& cell;  // as given, with the chain's TCP
   PostOptions o;

@@ -146,6 +146,49 @@ TimedMotion PostSession::Impl::timed_ptp(const JointVector& q1, int cl_line) {
   return t;
 }
 
+namespace detail {
+
+bool replay_sample(const ArmIk& ik, const Isometry& T, const JointVector& q_other, int status,
+                   double s, double ds, const char* what, JointVector& q_prev,
+                   JointVector& peak_rate, std::string& why) {
+  const ArmIkSolutions sol = ik.solve(T, q_other, &q_prev);
+  if (!sol.valid[static_cast<size_t>(status)]) {
+    why = fmt::format("at {:.0f} % of the {} the arm cannot keep its posture within the limits",
+                      100.0 * s, what);
+    return false;
+  }
+  const JointVector& q = sol.q[static_cast<size_t>(status)];
+  for (int m = 0; m < 6; ++m) {
+    const int i = ik.arm_joints()[static_cast<size_t>(m)];
+    if (std::fabs(q[i] - q_prev[i]) > deg_to_rad(10.0)) {
+      why = fmt::format("A{} would jump by {:.1f} deg at {:.0f} % of the {}", m + 1,
+                        rad_to_deg(std::fabs(q[i] - q_prev[i])), 100.0 * s, what);
+      return false;
+    }
+    if (ds > 0.0)
+      peak_rate[i] = std::max(peak_rate[i], std::fabs(q[i] - q_prev[i]) / ds);
+  }
+  q_prev = q;
+  return true;
+}
+
+bool replay_ends_at(const ArmIk& ik, const JointVector& q_end, const JointVector& q1,
+                    const char* what, std::string& why) {
+  for (int m = 0; m < 6; ++m) {
+    const int i = ik.arm_joints()[static_cast<size_t>(m)];
+    if (std::fabs(q_end[i] - q1[i]) > deg_to_rad(0.01)) {
+      why = fmt::format(
+          "the controller would end the {} with A{} {:.3f} deg from the tracked "
+          "posture",
+          what, m + 1, rad_to_deg(std::fabs(q_end[i] - q1[i])));
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace detail
+
 // Replays the controller's LIN from (q0, T0) to (q1, T1): the TCP on the straight line with
 // the orientation turned at the same pace, the external axes linear, the arm in closed form for
 // the start's posture. Fills the largest |dq/ds| of every joint; false (with why) if the arm
@@ -173,35 +216,11 @@ bool PostSession::Impl::lin_replay(const JointVector& q0, const Isometry& T0, co
     Isometry T = Isometry::Identity();
     T.linear() = r0.slerp(s, r1).toRotationMatrix();
     T.translation() = (1.0 - s) * T0.translation() + s * T1.translation();
-    const ArmIkSolutions sol = ik->solve(T, q_other, &q_prev);
-    if (!sol.valid[static_cast<size_t>(status)]) {
-      why = fmt::format("at {:.0f} % of the line the arm cannot keep its posture within the limits",
-                        100.0 * s);
+    if (!detail::replay_sample(*ik, T, q_other, status, s, ds, "line", q_prev, peak_rate, why))
       return false;
-    }
-    const JointVector& q = sol.q[static_cast<size_t>(status)];
-    for (int m = 0; m < 6; ++m) {
-      const int i = ik->arm_joints()[static_cast<size_t>(m)];
-      if (std::fabs(q[i] - q_prev[i]) > deg_to_rad(10.0)) {
-        why = fmt::format("A{} would jump by {:.1f} deg at {:.0f} % of the line", m + 1,
-                          rad_to_deg(std::fabs(q[i] - q_prev[i])), 100.0 * s);
-        return false;
-      }
-      if (ds > 0.0)
-        peak_rate[i] = std::max(peak_rate[i], std::fabs(q[i] - q_prev[i]) / ds);
-    }
-    q_prev = q;
   }
-  for (int m = 0; m < 6; ++m) {
-    const int i = ik->arm_joints()[static_cast<size_t>(m)];
-    if (std::fabs(q_prev[i] - q1[i]) > deg_to_rad(0.01)) {
-      why = fmt::format(
-          "the controller would end the line with A{} {:.3f} deg from the tracked "
-          "posture",
-          m + 1, rad_to_deg(std::fabs(q_prev[i] - q1[i])));
-      return false;
-    }
-  }
+  if (!detail::replay_ends_at(*ik, q_prev, q1, "line", why))
+    return false;
   // The external axes move linearly: their rate is the chord's.
   return true;
 }
