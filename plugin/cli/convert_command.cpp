@@ -132,6 +132,10 @@ void print_timing(const rp_session* session) {
   if (t.untimed_tool_changes > 0)
     line += fmt::format(", without the time of {} tool change(s)", t.untimed_tool_changes);
   fmt::print("{}\n", line);
+  if (t.plan_windows > 0) {
+    fmt::print("whole-path plan: {} window(s), {} tracked pose by pose, {} IK solutions\n",
+               t.plan_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
+  }
   if (!t.axis_speeds_known) {
     fmt::print("axis speeds: not checked (the cell gives none)\n");
     return;

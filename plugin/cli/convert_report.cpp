@@ -155,6 +155,10 @@ struct ConvertReport::Impl {
   // The time model: per joint the fraction of its velocity limit; path speeds in mm/min.
   std::vector<rep::MinMaxDecimator> speed_fraction;
   rep::MinMaxDecimator speed_reached{kBuckets}, speed_asked{kBuckets}, speed_written{kBuckets};
+  // The whole-path plan: per joint, the planned and the written value in DH units (deg, mm).
+  std::vector<rep::MinMaxDecimator> planned_dh, written_dh;
+  std::vector<double> plan_deviation;  // per joint, the largest |written - planned|
+  long planned_motions = 0;
   double last_time_s = 0.0;
   Toolpath path;
   double threshold = kNaN;
@@ -186,6 +190,15 @@ struct ConvertReport::Impl {
     speed_asked.push(x, cp ? 60.0 * m.asked_mm_s : kNaN);
     speed_written.push(x, cp ? 60.0 * m.command_mm_s : kNaN);
     last_time_s = m.time_s;
+    planned_motions += m.planned ? 1 : 0;
+    for (std::size_t i = 0; i < joints.size() && i < 16; ++i) {
+      const double scale = joints[i].prismatic ? 1.0 : kRadToDeg;
+      planned_dh[i].push(x, m.planned ? scale * m.planned_joints[i] : kNaN);
+      written_dh[i].push(x, scale * m.joints[i]);
+      if (m.planned)
+        plan_deviation[i] =
+            std::max(plan_deviation[i], scale * std::fabs(m.joints[i] - m.planned_joints[i]));
+    }
   }
 
   static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
@@ -207,6 +220,9 @@ ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>
     impl_->joints.push_back(std::move(j));
     impl_->joint_values.emplace_back(kBuckets);
     impl_->speed_fraction.emplace_back(kBuckets);
+    impl_->planned_dh.emplace_back(kBuckets);
+    impl_->written_dh.emplace_back(kBuckets);
+    impl_->plan_deviation.push_back(0.0);
   }
   if (rp_set_motion_observer(session, &Impl::observe, impl_.get()) != RP_OK) {
     throw Error(ErrorCode::internal,
@@ -375,6 +391,37 @@ void add_external_axes_plot(rep::HtmlReport& r, const ConvertReport::Impl& d) {
     ep.series.push_back(std::move(s));
   }
   r.add_plot(std::move(ep));
+}
+
+// The whole-path plan (docs/redundancy.md): per joint outside the arm, the posture planned at
+// the keyframes (interpolated at each motion) against the one written, which the tracker keeps
+// near the plan while it tracks every pose exactly.
+void add_plan_section(rep::HtmlReport& r, const ConvertReport::Impl& d) {
+  if (d.planned_motions == 0)
+    return;
+  r.add_section("Whole-path plan: planned against tracked");
+  r.add_paragraph(fmt::format(
+      "{} of {} motions were tracked towards the whole-path plan (the others, if any: "
+      "PTP motions, stretches tracked pose by pose). The plan samples the joints outside the arm "
+      "on a lattice at keyframes and chooses the cheapest sequence by dynamic programming; the "
+      "tracker then pulls its null-space motion towards it. DH units: degrees and millimetres.",
+      d.planned_motions, d.motions));
+  for (std::size_t i = 0; i < d.joints.size() && i < 16; ++i) {
+    const JointInfo& j = d.joints[i];
+    if (!j.axis.empty() && j.axis[0] == 'A')
+      continue;  // the arm follows from the IK
+    rep::LinePlot pp;
+    pp.title = fmt::format("{}: planned and written (at most {:.3g} {} apart)", j.label(),
+                           d.plan_deviation[i], unit_of(j));
+    pp.x = motion_axis(d.motions);
+    pp.y = rep::make_axis(j.name, unit_of(j));
+    pp.series.push_back(series_of("written", d.written_dh[i].result()));
+    pp.series.push_back(series_of("planned", d.planned_dh[i].result()));
+    pp.series.back().dashed = true;
+    pp.width = 620;
+    pp.height = 300;
+    r.add_plot(std::move(pp));
+  }
 }
 
 // Iterations per written pose and the feed of the cutting moves.
@@ -547,6 +594,7 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
     add_speed_section(r, d, session);
     add_conditioning_plot(r, d);
     add_external_axes_plot(r, d);
+    add_plan_section(r, d);
     add_solver_and_feed_section(r, d);
     add_toolpath_section(r, d);
     write_text_file(path, r.html());

@@ -31,8 +31,8 @@ extern "C" {
 
 #define REDPOST_VERSION_MAJOR 0
 #define REDPOST_VERSION_MINOR 3
-#define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.3.0"
+#define REDPOST_VERSION_PATCH 1
+#define REDPOST_VERSION "0.3.1"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -115,7 +115,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.3.0". */
+/* The library's version, e.g. "0.3.1". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -216,6 +216,11 @@ typedef struct rp_motion {
   int limit_joint;     /* the joint behind it (chain index), -1 */
   /* Per joint, the largest fraction of its velocity limit it reaches (0: no limit known). */
   double speed_fraction[16];
+  /* Appended in 0.3.1: the whole-path plan's posture the tracker followed at this motion
+   * (DH units, chain order) where planned is 1; planned 0 where none was (RP_PLAN_LOCAL, a
+   * stretch tracked pose by pose, PTP motions). */
+  int planned;
+  double planned_joints[16];
 } rp_motion;
 
 /* Called once per written motion, once it is timed, on the thread that sent an event. The
@@ -243,6 +248,10 @@ typedef struct rp_timing {
   long feed_limits;           /* stretches where an axis keeps the feed 5 % or more lower */
   int feed_limits_listed;     /* how many of them rp_feed_limit gives (the first 1000) */
   int untimed_tool_changes;   /* tool changes (HALT, a routine) whose own time is not known */
+  /* Appended in 0.3.1: the whole-path plan (RP_PLAN_GLOBAL; all 0 under RP_PLAN_LOCAL). */
+  long plan_windows;          /* windows planned */
+  long plan_fallback_windows; /* of them, tracked pose by pose (no sequence on the lattice) */
+  long plan_ik_evaluations;   /* lattice nodes solved, one closed-form IK posture each */
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 

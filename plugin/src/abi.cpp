@@ -92,7 +92,6 @@ void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) 
                                    : o.plan_preset == RP_PLAN_FAST ? PlanPreset::fast
                                                                    : PlanPreset::smooth);
   post.plan_settings.keyframe_spacing_mm = o.keyframe_spacing_mm;
-  post.plan_settings.prismatic_step_mm = o.keyframe_spacing_mm;
   post.plan_settings.lock_value =
       JointVector::Constant(cell.size(), std::numeric_limits<double>::quiet_NaN());
   for (int k = 0; k < 6; ++k) {
@@ -516,6 +515,9 @@ RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer 
       out.limit_joint = m.limit_joint;
       for (int i = 0; i < out.joint_count && i < 16; ++i)
         out.speed_fraction[i] = m.speed_fraction ? (*m.speed_fraction)[i] : 0.0;
+      out.planned = m.q_plan ? 1 : 0;
+      for (int i = 0; m.q_plan && i < out.joint_count && i < 16; ++i)
+        out.planned_joints[i] = (*m.q_plan)[i];
       fn(&out, user);
     });
   });
@@ -546,6 +548,9 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.feed_limits = s.feed_limits_total;
     out.feed_limits_listed = static_cast<int>(s.feed_limits.size());
     out.untimed_tool_changes = s.untimed_tool_changes;
+    out.plan_windows = s.plan_windows;
+    out.plan_fallback_windows = s.plan_fallback_windows;
+    out.plan_ik_evaluations = s.plan_ik_evaluations;
     std::memcpy(timing, &out, timing->struct_size);
   });
 }

@@ -158,7 +158,8 @@ const char* const kOpenUsage =
     "-cell CELL.xml -output DIR -name NAME ?-krl SET.xml? ?-joints-csv FILE? ?-source NAME? "
     "?-base EXPR? ?-tool EXPR? ?-placement {x y z a b c}? ?-apo MM? ?-split N? "
     "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
-    "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM?";
+    "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
+    "?-lock {E1=500 E2 ...}?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
 const char* const kOpenOptions[] = {"-cell",        "-krl",    "-output",    "-name",
@@ -166,7 +167,7 @@ const char* const kOpenOptions[] = {"-cell",        "-krl",    "-output",    "-n
                                     "-apo",         "-split",  "-placement", "-cl-line-every",
                                     "-chordal-tol", "-tools",  "-clearance", "-rapid-vel",
                                     "-max-bytes",   "-plan",   "-preset",    "-keyframe-spacing",
-                                    nullptr};
+                                    "-lock",        nullptr};
 enum OpenOption {
   o_cell,
   o_krl,
@@ -187,8 +188,40 @@ enum OpenOption {
   o_max_bytes,
   o_plan,
   o_preset,
-  o_keyframe_spacing
+  o_keyframe_spacing,
+  o_lock
 };
+
+// One word of -lock: "E<n>" holds external axis n where the first pose puts it, "E<n>=<value>"
+// at that value (mm or deg), as `redpost convert --lock` does.
+int lock_option(Tcl_Interp* interp, Tcl_Obj* word, rp_options& opt) {
+  const std::string text = Tcl_GetString(word);
+  const std::size_t eq = text.find('=');
+  const std::string axis = text.substr(0, eq);
+  if (axis.size() != 2 || (axis[0] != 'E' && axis[0] != 'e') || axis[1] < '1' || axis[1] > '6') {
+    Tcl_SetObjResult(interp, Tcl_ObjPrintf("-lock \"%s\": name an external axis E1..E6, e.g. "
+                                           "-lock {E1=500 E2}",
+                                           text.c_str()));
+    Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+    return TCL_ERROR;
+  }
+  const int k = axis[1] - '1';
+  opt.lock_mask |= 1u << k;
+  if (eq == std::string::npos)
+    return TCL_OK;
+  Tcl_Obj* value = Tcl_NewStringObj(text.c_str() + eq + 1, -1);
+  Tcl_IncrRefCount(value);
+  const int rc = get_double(interp, value, "-lock", &opt.lock_value[k]);
+  Tcl_DecrRefCount(value);
+  if (rc == TCL_OK && !std::isfinite(opt.lock_value[k])) {
+    Tcl_SetObjResult(interp, Tcl_ObjPrintf("-lock \"%s\": the value is not a finite number (mm or "
+                                           "deg)",
+                                           text.c_str()));
+    Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+    return TCL_ERROR;
+  }
+  return rc;
+}
 
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
 // duration of rp_open).
@@ -259,6 +292,17 @@ int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
       if (get_double(interp, v, "-keyframe-spacing", &opt.keyframe_spacing_mm) != TCL_OK)
         return TCL_ERROR;
       break;
+    case o_lock: {
+      Tcl_Size n = 0;
+      Tcl_Obj** items = nullptr;
+      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+        return TCL_ERROR;
+      for (Tcl_Size k = 0; k < n; ++k) {
+        if (lock_option(interp, items[k], opt) != TCL_OK)
+          return TCL_ERROR;
+      }
+      break;
+    }
     case o_apo:
       if (get_double(interp, v, "-apo", &opt.apo_mm) != TCL_OK)
         return TCL_ERROR;

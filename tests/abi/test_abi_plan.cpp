@@ -2,6 +2,7 @@
 // options refused, and an external axis held at a value, checked on the written program.
 #include "catch_compat.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -88,4 +89,66 @@ TEST_CASE("abi plan: E1 held at 500 mm is 500 in every written motion", "[abi]")
     CHECK(std::stod(line.substr(at + 3)) == Approx(500.0).margin(1e-3));
   }
   CHECK(motions >= 40);
+}
+
+namespace {
+
+struct PlanSeen {
+  int motions = 0, planned = 0;
+  double largest_gap = 0.0;  // |written - planned| over every joint, DH units
+};
+
+void count_planned(const rp_motion* m, void* user) {
+  auto& seen = *static_cast<PlanSeen*>(user);
+  ++seen.motions;
+  if (!m->planned)
+    return;
+  ++seen.planned;
+  for (int i = 0; i < m->joint_count && i < 16; ++i)
+    seen.largest_gap = std::max(seen.largest_gap, std::fabs(m->joints[i] - m->planned_joints[i]));
+}
+
+// A 400 mm pass along the track, observed; the plan's counters after rp_close.
+PlanSeen observe_pass(int plan, rp_timing& t) {
+  const std::string dir = redpost::test::fresh_temp_dir("redpost_abi_plan", "observed");
+  rp_options o = options_for(dir);
+  o.plan = plan;
+  rp_session* s = nullptr;
+  REQUIRE(rp_open(&o, &s) == RP_OK);
+  PlanSeen seen;
+  REQUIRE(rp_set_motion_observer(s, &count_planned, &seen) == RP_OK);
+  REQUIRE(rp_rapid(s) == RP_OK);
+  REQUIRE(rp_linear_move(s, -100, -450, 100, 0, 0, 1) == RP_OK);
+  REQUIRE(rp_feed(s, 3000) == RP_OK);
+  for (int k = 0; k <= 80; ++k)
+    REQUIRE(rp_linear_move(s, -100, -450 - 5 * k, 60, 0, 0, 1) == RP_OK);
+  REQUIRE(rp_close(s) == RP_OK);
+  t = rp_timing{};
+  t.struct_size = sizeof t;
+  REQUIRE(rp_timing_get(s, &t) == RP_OK);
+  rp_free(s);
+  return seen;
+}
+
+}  // namespace
+
+TEST_CASE("abi plan: the observer sees the planned posture, rp_timing the plan's counters",
+          "[abi]") {
+  rp_timing t{};
+  const PlanSeen global = observe_pass(RP_PLAN_GLOBAL, t);
+  CHECK(global.motions > 80);
+  CHECK(global.planned >= 80);  // every cutting motion followed the plan
+  // The tracker stays near the plan (it is pulled towards it, not onto it): below 30 mm on the
+  // track, and far below 30 rad on the rotary joints.
+  CHECK(global.largest_gap > 0.0);
+  CHECK(global.largest_gap < 30.0);
+  CHECK(t.plan_windows >= 1);
+  CHECK(t.plan_fallback_windows == 0);
+  CHECK(t.plan_ik_evaluations > 1000);
+
+  const PlanSeen local = observe_pass(RP_PLAN_LOCAL, t);
+  CHECK(local.motions > 80);
+  CHECK(local.planned == 0);
+  CHECK(t.plan_windows == 0);
+  CHECK(t.plan_ik_evaluations == 0);
 }

@@ -1,5 +1,6 @@
 // Forward kinematics and Jacobian of the 9-joint Andres cell: redpost against Orocos KDL on the
-// same chain, plus a count of heap allocations per call (docs/performance.md).
+// same chain, plus a count of heap allocations per call; the closed-form arm IK and the
+// whole-path planner (docs/performance.md).
 //
 // Run: build/tests/bench/redpost_bench_kinematics --benchmark_repetitions=5
 //        --benchmark_report_aggregates_only=true
@@ -26,6 +27,8 @@
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/jacobian.hpp"
+#include "redpost/kinematics/status_turn.hpp"
+#include "redpost/redundancy/path_plan.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -155,6 +158,73 @@ void BM_arm_ik(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_arm_ik);
+
+// The same target with one posture asked (only_status), as the whole-path planner solves each
+// lattice node: the other shoulder, elbow and wrist flip are skipped, and nothing is copied or
+// checked for them.
+void BM_arm_ik_one_posture(benchmark::State& state) {
+  static const redpost::Cell cell = redpost::test::shipped_cell("caro2014_kr270_table");
+  const redpost::ArmIk ik(cell);
+  redpost::AxisValues axes = redpost::to_controller_axes(cell, cell.home());
+  const double a_deg[6] = {20.0, -120.0, 140.0, 30.0, 40.0, -20.0};
+  for (int n = 1; n <= 6; ++n)
+    axes.arm(n) = a_deg[n - 1];
+  const redpost::JointVector q = redpost::from_controller_axes(cell, axes, cell.home());
+  const redpost::Isometry T = redpost::tcp_pose(cell, q);
+  const int status = redpost::status_turn(cell, ik.status_model(), q).status;
+  bool valid = false;
+  {
+    redpost::bench::AllocationScope allocations(state);
+    for (auto _ : state) {
+      const redpost::ArmIkSolutions sol = ik.solve(T, q, nullptr, status);
+      valid = sol.valid[static_cast<std::size_t>(status)];
+      benchmark::DoNotOptimize(sol);
+    }
+  }
+  state.counters["valid"] = valid ? 1 : 0;
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_arm_ik_one_posture);
+
+// The whole-path planner on one window (docs/redundancy.md): the 1500 mm pass along the track
+// of the Andres cell at 10 000 mm/min, keyframes 20 mm apart (76 layers), planned from scratch
+// (the first layer over every posture and the free joints' ranges) and from a committed
+// posture (as every window after a program's first). Counters: lattice nodes solved (one
+// closed-form IK posture each) per second of planning, everything in it included.
+std::vector<redpost::PlanKeyframe> long_pass_keyframes() {
+  std::vector<redpost::PlanKeyframe> kf;
+  for (int k = 0; k <= 75; ++k) {
+    redpost::PlanKeyframe f;
+    f.target = redpost::TcpTarget::axis(Eigen::Vector3d(-100.0, -300.0 - 20.0 * k, 60.0),
+                                        Eigen::Vector3d::UnitZ());
+    f.s_mm = 20.0 * k;
+    f.speed_mm_s = 10000.0 / 60.0;
+    f.cl_line = 10 + k;
+    kf.push_back(f);
+  }
+  return kf;
+}
+
+void BM_plan_window(benchmark::State& state) {
+  static const redpost::Cell cell = redpost::test::shipped_cell("andres2011_kr15_track_table");
+  const redpost::ArmIk ik(cell);
+  const redpost::PathPlanner planner(cell, ik, redpost::plan_preset(redpost::PlanPreset::smooth));
+  const std::vector<redpost::PlanKeyframe> kf = long_pass_keyframes();
+  const bool fresh = state.range(0) == 0;
+  const redpost::PlanWindowResult first = planner.plan(kf, nullptr);
+  const redpost::JointVector start = first.q.front();
+  long evaluations = 0;
+  for (auto _ : state) {
+    const redpost::PlanWindowResult r = planner.plan(kf, fresh ? nullptr : &start);
+    evaluations += r.ik_evaluations;
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["ik_per_s"] =
+      benchmark::Counter(static_cast<double>(evaluations), benchmark::Counter::kIsRate);
+  state.counters["ik_per_window"] =
+      static_cast<double>(evaluations) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_plan_window)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

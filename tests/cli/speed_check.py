@@ -3,6 +3,7 @@
 files and the cell's limits only (docs/timing.md, issue 17). Used by tests/cli/test_speeds.sh.
 
     speed_check.py PROGRAM.src JOINTS.csv CELL.xml [--feed MM_PER_MIN] [--limit FRACTION]
+                   [--max-time-ratio R]
 
 For every CP motion (LIN, SLIN, CIRC) after the first motion: the TCP path from the printed
 positions (a CIRC's arc through its auxiliary point), the time the controller needs at least at
@@ -12,7 +13,8 @@ axis values (a split program's parts each start with a PTP to where the last par
 has no row). Prints the highest fraction of a velocity limit and fails above --limit (1.0).
 
 With --feed: the cutting motions are those written at that feed or below it (the rapid speed
-is excluded); prints how much longer than at the feed they take at the written $VEL.CP.
+is excluded); prints how much longer than at the feed they take at the written $VEL.CP, and
+fails above --max-time-ratio (issue 17: 1.10 at a production feed).
 """
 import math
 import re
@@ -98,7 +100,11 @@ def arc_length(a, b, c):
 
 def main(argv):
     args = argv[1:]
-    feed, limit = None, 1.0
+    feed, limit, max_ratio = None, 1.0, None
+    if "--max-time-ratio" in args:
+        k = args.index("--max-time-ratio")
+        max_ratio = float(args[k + 1])
+        del args[k:k + 2]
     if "--feed" in args:
         k = args.index("--feed")
         feed = float(args[k + 1])
@@ -197,6 +203,9 @@ def main(argv):
               % (cut_written / cut_feed, feed))
     if worst > limit:
         print("speed_check: FAIL: an axis passes %.2f of its velocity limit" % limit)
+        return 1
+    if max_ratio is not None and cut_feed > 0.0 and cut_written / cut_feed > max_ratio:
+        print("speed_check: FAIL: cutting takes more than %.2f x the time at the feed" % max_ratio)
         return 1
     return 0
 

@@ -101,10 +101,10 @@ run rep convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/rep"
 [ "$rc" -eq 0 ] && [ -s "$work/rep/report.html" ] && pass || fail "report: exit $rc: $(cat "$work/rep.err")"
 cmp -s "$work/ok/POCKET.src" "$work/rep/POCKET.src" && cmp -s "$work/ok/POCKET.dat" "$work/rep/POCKET.dat" &&
   pass || fail "the KRL differs with --report"
-# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, iterations, feed and three
-# toolpath projections.
+# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, the plan against the
+# written joints for each of E1, E2 and the spin, iterations, feed and three toolpath projections.
 plots=$(grep -o '<svg class="plot"' "$work/rep/report.html" | wc -l)
-[ "$plots" -eq 10 ] && pass || fail "report: $plots plots, expected 10"
+[ "$plots" -eq 13 ] && pass || fail "report: $plots plots, expected 13"
 urls=$(grep -Eo '(https?|ftp|file)://[^"'"'"' )]*' "$work/rep/report.html" | grep -vx 'http://www.w3.org/2000/svg' || true)
 [ -z "$urls" ] && pass || fail "report refers outside itself: $urls"
 # The motion count in the report is the joints log's row count (one row per written motion).

@@ -24,15 +24,17 @@ speeds() {
   expect_out "cycle time "
   expect_out "axis speeds: at most "
   local feed=()
-  [[ $name == fast* || $name == evalfast* ]] && feed=(--feed 10000)
+  [[ $name == fast* ]] && feed=(--feed 10000)
+  # Issue 17: at a production feed the real CAM files take at most 10 % longer than the feed asks.
+  [[ $name == evalfast* ]] && feed=(--feed 10000 --max-time-ratio 1.10)
   $py "$check_py" "$TMP/$name/P.src" "$TMP/$name/joints.csv" "$cell" "${feed[@]}" \
     >"$TMP/check" 2>&1 || fail "$name: $(cat "$TMP/check")"
   echo "cli.speeds: $name: $(tr '\n' ' ' <"$TMP/check")"
 }
 
-# fast CL_FILE OUT: the CL file with every feed set to 10 000 mm/min.
+# fast CL_FILE OUT: the CL file with every feed set to 10 000 mm/min (a cycle's feed too).
 fast() {
-  sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#' \
+  sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
     "$1" >"$2"
   grep -q 'FEDRAT/\(MMPM,10000\|10000,MMPM\)' "$2" || fail "no feed replaced in $1"
 }
@@ -110,6 +112,34 @@ run convert "$TMP/straight.apt" --cell "$cell" -o "$TMP/straight_local" --name P
 expect_rc 0
 $py "$travel_py" "$TMP/straight_local/P.src" >"$TMP/travel" 2>&1
 echo "cli.speeds: straight, pose by pose: $(cat "$TMP/travel")"
+passed
+
+begin "a cone pass with the track held: pose by pose runs into a dead end, the whole-path plan does not"
+# 2.5 turns around a 50 mm circle on the table, the tool tilted 20 deg outwards and turning with
+# the point, E1 held where the first pose puts it. Pose by pose, the greedy start near home and the
+# centring's swings of the table drive A3 to its limit and A5 to the wrist singularity, and the
+# tool spin winds down by 3 deg a pose until it would pass -360 deg. The plan sees the whole pass
+# in its first window and starts with the table on the other side of the part.
+$py - >"$TMP/cone.apt" <<'PY'
+import math
+R, alpha, turns, z, step = 50.0, math.radians(20.0), 2.5, 50.0, 2.0
+def line(t, zz):
+    return 'GOTO/%.4f,%.4f,%.4f,%.7f,%.7f,%.7f' % (R * math.cos(t), R * math.sin(t), zz,
+            math.sin(alpha) * math.cos(t), math.sin(alpha) * math.sin(t), math.cos(alpha))
+print('PARTNO/CONE\nUNITS/MM\nMULTAX/ON\nCUTTER/10.,0\nLOADTL/1\nRAPID')
+print(line(0.0, z + 50))
+print('FEDRAT/MMPM,2000')
+for k in range(int(turns * 360 / step) + 1):
+    print(line(math.radians(step * k), z))
+PY
+mkdir -p "$TMP/cone_local"
+run convert "$TMP/cone.apt" --cell "$cell" -o "$TMP/cone_local" --name P --plan local --lock E1
+expect_rc 2
+expect_err "would have to leave its limits"
+[[ -z "$(ls -A "$TMP/cone_local")" ]] || fail "cone, pose by pose: output left behind: $(ls "$TMP/cone_local")"
+speeds cone "$TMP/cone.apt" --lock E1
+expect_out "whole-path plan: "
+grep -Eq "^d_L +E1 +500.0 mm .. 500.0 mm" "$TMP/out" || fail "cone: the track moved: $(grep d_L "$TMP/out")"
 passed
 
 eval_dir=$SRC/../shared/evaldata

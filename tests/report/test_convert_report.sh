@@ -8,12 +8,12 @@ redpost=$1
 src=$2
 out=$3
 here=$(cd "$(dirname "$0")" && pwd)
-# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, iterations, feed and the
-# XY, XZ, YZ toolpath projections.
-expected=10
+# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, the plan against the
+# written joints (E1, E2, the spin), iterations, feed and the XY, XZ, YZ toolpath projections.
+expected=13
 rm -rf "$out" && mkdir -p "$out" || exit 1
 "$redpost" convert "$src/examples/cl/pocket_arcs.apt" \
   --cell "$src/definitions/cells/andres2011_kr15_track_table.xml" -o "$out" --name POCKET -q \
   --report "$out/convert_report.html" || { echo "FAIL: convert --report failed" >&2; exit 1; }
 # A page tall enough to show every plot: the screenshot is then worth looking at.
-exec "$here/render_check.sh" "$out/convert_report.html" "$expected" "$out/convert_report.png" 2600
+exec "$here/render_check.sh" "$out/convert_report.html" "$expected" "$out/convert_report.png" 3400

@@ -85,25 +85,25 @@ set cl $src/examples/cl
 # --- the package ----------------------------------------------------------------------------------
 
 set auto_path [linsert $auto_path 0 $libdir]
-check package.require {package require redpost} 0.3.0
-check package.version {::redpost::version} 0.3.0
+check package.require {package require redpost} 0.3.1
+check package.version {::redpost::version} 0.3.1
 check package.namespace {
     expr {[llength [info commands ::redpost::*]] >= 22}
 }
 
-# The package from an install layout: <libdir>/redpost0.3.0/pkgIndex.tcl, library one level up.
+# The package from an install layout: <libdir>/redpost0.3.1/pkgIndex.tcl, library one level up.
 check package.install_layout {
     set inst $::work/install/lib
-    file mkdir $inst/redpost0.3.0
-    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.3.0/
+    file mkdir $inst/redpost0.3.1
+    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.3.1/
     # The real file under the SONAME (in the build tree libredpost.so.0 is a symlink).
-    file copy [file join $::libdir libredpost.so.0.3.0] $inst/libredpost.so.0
+    file copy [file join $::libdir libredpost.so.0.3.1] $inst/libredpost.so.0
     set child [interp create]
     $child eval [list set auto_path [linsert [$child eval set auto_path] 0 $inst]]
     set v [$child eval {package require redpost; ::redpost::version}]
     set loaded [$child eval {info loaded}]
     interp delete $child
-    expr {$v eq "0.3.0" && [string match *install/lib/libredpost.so.0* $loaded]}
+    expr {$v eq "0.3.1" && [string match *install/lib/libredpost.so.0* $loaded]}
 }
 
 # --- usage errors ---------------------------------------------------------------------------------
@@ -231,6 +231,31 @@ check plan.unreachable_no_output {glob -nocomplain -directory $work/far_plan *} 
 check_error plan.bad_option {::redpost::open -cell $cell -output $work -name X -plan sideways} \
     * {bad -plan "sideways"*}
 
+# -lock: E1 held at 700 mm in every written motion (as `redpost convert --lock E1=700`).
+file mkdir $work/lock
+check plan.lock {
+    set s [::redpost::open -cell $cell -output $work/lock -name LOCK -source lock.apt \
+        -lock {E1=700 E2}]
+    ::redpost::rapid $s
+    ::redpost::linear_move $s -120 -440 110 0 0 1
+    ::redpost::feed $s 1000
+    ::redpost::linear_move $s -120 -440 57 0 0 1
+    ::redpost::linear_move $s -320 -640 57 0 0 1
+    ::redpost::close $s
+    ::redpost::free $s
+    set e1 {}
+    foreach {- v} [regexp -all -inline {E1 (-?[0-9.]+)} [slurp $work/lock/LOCK.src]] {
+        lappend e1 [format %.1f $v]
+    }
+    list [llength $e1] [lsort -unique $e1]
+} {3 700.0}
+check_error plan.lock_bad_axis {::redpost::open -cell $cell -output $work -name X -lock {A1=5}} \
+    {REDPOST USAGE} {-lock "A1=5": name an external axis E1..E6*}
+check_error plan.lock_bad_value {::redpost::open -cell $cell -output $work -name X -lock {E1=far}} \
+    {REDPOST USAGE} {expected a number for -lock but got "far"}
+check_error plan.lock_infinite {::redpost::open -cell $cell -output $work -name X -lock {E1=inf}} \
+    {REDPOST USAGE} {-lock "E1=inf": the value is not a finite number*}
+
 # --- the reader ------------------------------------------------------------------------------------
 
 check reader.events {
@@ -285,7 +310,7 @@ check interp.safe {
     set r [list [$safe eval ::redpost::version] [llength [$safe eval {info commands ::redpost::*}]]]
     interp delete $safe
     set r
-} {0.3.0 1}
+} {0.3.1 1}
 
 # --- the handlers, as NX calls them -------------------------------------------------------------------
 

@@ -249,6 +249,26 @@ WristAngles wrist_angles(const Eigen::Matrix3d& Rw, double alpha_near) {
   return {alpha, beta, gamma};
 }
 
+// Arm joint k's value for the displacement d from the reference posture; in_limits false when
+// it has no 2*pi-equivalent within its limits.
+double arm_joint_value(const Cell& cell, const std::array<int, 6>& j, const ArmStatusModel& model,
+                       const std::array<double, 6>& q_arm_ref, const JointVector& near, int k,
+                       double d, bool& in_limits) {
+  const int i = j[static_cast<size_t>(k)];
+  const Joint& joint = cell.joint(i);
+  double v = q_arm_ref[static_cast<size_t>(k)] + d;
+  // Status-bearing joints first in a canonical range: A3 within 180 deg of phi (its
+  // elbow bit), A5 in (-180, 180] (its flip bit); the others near q_near.
+  if (k == 2) {
+    const double a_deg = to_axis_value(joint, v) - (model.phi_deg - 180.0);
+    v -= joint.axis.sign * kTwoPi * floor_fast(a_deg / 360.0);
+  } else if (k == 4) {
+    const double a_deg = to_axis_value(joint, v);
+    v -= joint.axis.sign * kTwoPi * ceil_fast((a_deg - 180.0) / 360.0);
+  }
+  return nearest_equivalent(v, joint.lower, joint.upper, near[i], in_limits);
+}
+
 // The arm joint values qa for the displacements d from the reference posture q_arm_ref;
 // false when some joint has no 2*pi-equivalent within its limits.
 bool arm_joint_values(const Cell& cell, const std::array<int, 6>& j, const ArmStatusModel& model,
@@ -256,20 +276,8 @@ bool arm_joint_values(const Cell& cell, const std::array<int, 6>& j, const ArmSt
                       const double (&d)[6], double (&qa)[6]) {
   bool within = true;
   for (int k = 0; k < 6; ++k) {
-    const int i = j[static_cast<size_t>(k)];
-    const Joint& joint = cell.joint(i);
-    double v = q_arm_ref[static_cast<size_t>(k)] + d[k];
-    // Status-bearing joints first in a canonical range: A3 within 180 deg of phi (its
-    // elbow bit), A5 in (-180, 180] (its flip bit); the others near q_near.
-    if (k == 2) {
-      const double a_deg = to_axis_value(joint, v) - (model.phi_deg - 180.0);
-      v -= joint.axis.sign * kTwoPi * floor_fast(a_deg / 360.0);
-    } else if (k == 4) {
-      const double a_deg = to_axis_value(joint, v);
-      v -= joint.axis.sign * kTwoPi * ceil_fast((a_deg - 180.0) / 360.0);
-    }
     bool in_limits = false;
-    qa[k] = nearest_equivalent(v, joint.lower, joint.upper, near[i], in_limits);
+    qa[k] = arm_joint_value(cell, j, model, q_arm_ref, near, k, d[k], in_limits);
     within = within && in_limits;
   }
   return within;
@@ -431,7 +439,7 @@ ArmIk::ArmIk(const Cell& cell) : cell_(&cell), status_model_(make_arm_status_mod
 }
 
 ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
-                            const JointVector* q_near) const {
+                            const JointVector* q_near, int only_status) const {
   const Cell& cell = *cell_;
   const Geometry& g = g_;
   const std::array<int, 6>& j = arm_joints_;
@@ -462,6 +470,10 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
     const double rho = shoulder == 0 ? r : -r;
     const double d1 = shoulder == 0 ? phi1 : phi1 + kPi;
     const double cd1 = shoulder == 0 ? c1 : -c1, sd1 = shoulder == 0 ? s1 : -s1;
+    // One posture asked: its Status bit 0 is the shoulder's wherever the wrist is off the A1
+    // axis (posture_status), so the other shoulder cannot give it.
+    if (only_status >= 0 && r > kStatusBit0TieMm && ((only_status & 1) != 0) != (shoulder == 1))
+      continue;
     ArmPlaneAngles a23;
     if (!arm_plane_angles(rho - g.a1_mm, -g.sigma2 * w.z(), g.l2_mm, g.l3_mm, a23))
       continue;  // beyond reach (or within the inner dead zone) for this shoulder
@@ -469,6 +481,14 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
       const double psi = elbow == 0 ? a23.psi_abs : -a23.psi_abs;
       const double d2 = a23.arg_d - g.arg_l2 - (elbow == 0 ? a23.eta_abs : -a23.eta_abs);
       const double d3 = g.sigma3 * (psi - g.arg_l3 + g.arg_l2);
+      if (only_status >= 0) {
+        // Bit 1 (the elbow) is A3's alone, the same for both wrist flips (posture_status).
+        bool unused = false;
+        const double a3 = arm_joint_value(cell, j, status_model_, g.q_arm_ref, near, 2, d3, unused);
+        if ((to_axis_value(cell.joint(j[2]), a3) >= status_model_.phi_deg) !=
+            ((only_status & 2) != 0))
+          continue;
+      }
       // Rotation of A1..A3: Rz(d1) * Ry(sigma2 * (d2 + sigma3 d3)) in {C}.
       double s23 = 0.0, c23 = 1.0;
       detail::sincos_one(g.sigma2 * (d2 + g.sigma3 * d3), s23, c23);
@@ -489,6 +509,14 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
                              flip == 0 ? a.alpha : a.alpha + kPi,
                              flip == 0 ? a.beta : -a.beta,
                              g.epsilon6 * (flip == 0 ? a.gamma : a.gamma + kPi)};
+        if (only_status >= 0) {
+          // Bit 2 is A5's sign alone (posture_status): the other flip cannot give it.
+          bool unused = false;
+          const double a5 =
+              arm_joint_value(cell, j, status_model_, g.q_arm_ref, near, 4, d[4], unused);
+          if ((to_axis_value(cell.joint(j[4]), a5) < 0.0) != ((only_status & 4) != 0))
+            continue;
+        }
         double qa[6];
         const bool within = arm_joint_values(cell, j, status_model_, g.q_arm_ref, near, d, qa);
         const size_t slot =
@@ -496,6 +524,8 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
         if (out.exists[slot])
           continue;  // a degenerate posture met twice (A5 = 0, stretched arm): keep the first
         out.exists[slot] = true;
+        if (only_status >= 0 && static_cast<int>(slot) != only_status)
+          continue;  // the planner asks for one posture: no copy, no round trip for the others
         JointVector& qs = out.q[slot];
         qs = q_other;
         for (int k = 0; k < 6; ++k)

@@ -105,6 +105,10 @@ void PostSession::Impl::fail(const PoseResult& r, int cl_line, const char* what)
         msg += " Move the part (--placement)";
         if (!axes.empty())
           msg += ", or let the redundant axes help (are " + axes + " free?)";
+        // The plan sees 800 mm ahead: a long turn may run an axis to its end that the pose-by-pose
+        // centring would have held back (docs/redundancy.md, "A dead end the plan avoids").
+        if (o.plan == RedundancyPlan::global && !axes.empty())
+          msg += "; or try --plan local, which holds " + axes + " nearer home";
       }
       throw Error(ErrorCode::joint_limit, msg, SourceLocation{o.source_name, cl_line, 0});
     }
@@ -186,6 +190,10 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
     p.feed_mm_per_min = feed_mm_per_min;
   // {base} -> {B} -> part: the TCP the controller is sent, in the CL frame.
   p.p_part_mm = o.T_B_part.inverse() * (o.T_B_base * m.T_base_tcp.translation());
+  if (const JointVector* plan = tracker.plan_target(); plan && o.on_motion) {
+    p.planned = true;
+    p.q_plan = *plan;
+  }
   pending.push_back(std::move(p));
   TimedMotion timed = t;
   timed.index = summary.motions;

@@ -1,7 +1,7 @@
 // Whole-path planning in the session (docs/redundancy.md, "Whole-path planning"): the calls are
 // buffered until the path ahead covers the planning horizon (or a tool change or the end comes),
 // the free joints are planned over that window by dynamic programming (path_plan.hpp), the
-// first three quarters of the window are committed, and the calls they cover are released to be
+// first 85 % of the window are committed, and the calls they cover are released to be
 // tracked and written, the tracker pulled towards the committed plan at every pose. The next
 // window starts from the last committed keyframe, so memory stays flat in the path's length.
 #include <algorithm>
@@ -10,6 +10,8 @@
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/machining/elastostatic.hpp"
+#include "redpost/machining/quality.hpp"
 
 namespace redpost {
 
@@ -23,6 +25,28 @@ bool is_motion(const ClEvent& e) {
 constexpr std::size_t kMaxDeferred = 20000;
 // Tool axis turn between keyframes at most (deg).
 constexpr double kTurnDeg = 5.0;
+
+// Caro's criterion for the plan (path_plan.hpp), where the cell's six arm joints have stiffness
+// data: the tool's deflection normal to the feed and the tool axis, c = |n . dX|, under a nominal
+// 100 N load along that normal n (the radial cutting force, which spoils the machined surface
+// most; Caro 2014 eq. 5.1 with the elastostatic model of eq. 4.1). Empty otherwise.
+constexpr double kNominalRadialForceN = 100.0;
+
+std::function<double(const JointVector&, const Eigen::Vector3d&, const Eigen::Vector3d&)>
+nominal_deflection(const Cell& cell) {
+  int compliant = 0;
+  for (int i = 0; i < cell.size(); ++i)
+    compliant += cell.joint(i).stiffness ? 1 : 0;
+  if (compliant != 6)
+    return {};
+  return [&cell](const JointVector& q, const Eigen::Vector3d& feed_B, const Eigen::Vector3d& z_B) {
+    const Eigen::Vector3d n = z_B.cross(feed_B).normalized();
+    Vector6d w = Vector6d::Zero();
+    w.tail<3>() = kNominalRadialForceN * n;
+    const Vector6d dX = tcp_displacement(cell, q, w);
+    return normal_tool_deflection_mm(dX.tail<3>(), z_B, feed_B);
+  };
+}
 
 // Walks the buffered calls along the path, as the session will track it (CL points in order,
 // arcs as their chords), placing a keyframe every `spacing` mm of path.
@@ -138,7 +162,9 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
                       " (use --plan local)",
                   SourceLocation{o.source_name, cl_line, 0});
     }
-    planner = std::make_unique<PathPlanner>(*active_cell, *ik, o.plan_settings);
+    PathPlanSettings settings = o.plan_settings;
+    settings.normal_deflection_mm = nominal_deflection(*active_cell);
+    planner = std::make_unique<PathPlanner>(*active_cell, *ik, settings);
     planner_cell = active_cell;
   }
   return *planner;
@@ -250,32 +276,43 @@ std::size_t PostSession::Impl::plan_window(bool flush) {
   const PathPlanner& pl = planner_for_active(w.kf.front().cl_line);
   const JointVector start_q = fresh ? JointVector() : from_tracker ? tracker.q() : plan_q.back();
   PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q);
-  ++plan_windows;
-  plan_ik_evaluations += r.ik_evaluations;
+  ++summary.plan_windows;
+  summary.plan_ik_evaluations += r.ik_evaluations;
   if (!r.feasible) {
     // The beam may have lost the way: search wider once.
     r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam);
-    plan_ik_evaluations += r.ik_evaluations;
+    summary.plan_ik_evaluations += r.ik_evaluations;
   }
   if (!r.feasible) {
-    // No sequence on the lattice: this stretch is tracked pose by pose (Algorithm 1), which
-    // fails with its own message (the CL line, the joint, the advice) where the path is out of
-    // reach indeed, and goes on where only the lattice was too coarse.
+    // No sequence on the lattice: the stretch up to the keyframe after the dead one is tracked
+    // pose by pose (Algorithm 1), which fails with its own message (the CL line, the joint, the
+    // advice) where the path is out of reach indeed, and goes on where only the lattice was too
+    // coarse; the next window is planned from where the tracker is then.
+    const int last_kf = static_cast<int>(w.kf.size()) - 1;
+    const auto dead =
+        static_cast<std::size_t>(std::min(std::max(r.dead_keyframe + 1, 1), std::max(last_kf, 0)));
     const int first_line = w.kf.front().cl_line;
-    const int dead_line = w.kf[static_cast<std::size_t>(std::max(r.dead_keyframe, 0))].cl_line;
+    const int dead_line = w.kf[dead].cl_line;
     summary.warnings.push_back(fmt::format(
         "{}:{}-{}: the whole-path plan found no posture sequence on its lattice here; this "
         "stretch is tracked pose by pose (docs/redundancy.md)",
         o.source_name, first_line, dead_line));
+    ++summary.plan_fallback_windows;
     reset_plan();
     plan_s = w.kf.front().s_mm;
-    dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(end));
-    return end;
+    std::size_t n = 0;
+    bool motion = false;
+    while (n < end && (std::isnan(end_s[n]) || end_s[n] <= w.kf[dead].s_mm + 1e-9 || !motion)) {
+      motion = motion || !std::isnan(end_s[n]);
+      ++n;
+    }
+    dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(n));
+    return n;
   }
 
-  // Commit three quarters of the window (all of it at the end or before a tool change), and
+  // Commit 85 % of the window (all of it at the end or before a tool change), and
   // at least up to the end of the first motion.
-  const double commit_s = (flush || barrier) ? w.s : start_s + 0.75 * o.plan_horizon_mm;
+  const double commit_s = (flush || barrier) ? w.s : start_s + 0.85 * o.plan_horizon_mm;
   const std::size_t n = commit_window(w.kf, r.q, end_s, end, commit_s, fresh);
   dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(n));
   return n;

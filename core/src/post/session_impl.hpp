@@ -101,6 +101,8 @@ struct PostSession::Impl {
     int iterations = 0;
     double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
     Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
+    bool planned = false;  // the tracker followed the whole-path plan at this motion
+    JointVector q_plan;    // ... and the plan's posture there
   };
   std::unique_ptr<PathTimer> timer;
   std::deque<PendingMotion> pending;
@@ -145,8 +147,6 @@ struct PostSession::Impl {
   std::vector<PlanKeyframe> plan_kf;
   std::vector<JointVector> plan_q;
   double plan_s = 0.0;
-  long plan_windows = 0;
-  long plan_ik_evaluations = 0;
 
   Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options);
 

@@ -432,6 +432,7 @@ void PostSession::Impl::observe(const PendingMotion& p, const TimedMotion& t,
   s.limit = mt.limit;
   s.limit_joint = mt.joint;
   s.speed_fraction = &fraction;
+  s.q_plan = p.planned ? &p.q_plan : nullptr;
   o.on_motion(s);
 }
 

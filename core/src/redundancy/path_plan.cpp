@@ -55,8 +55,11 @@ PathPlanSettings plan_preset(PlanPreset preset) {
     case PlanPreset::smooth:
       break;
     case PlanPreset::stiff:
-      // Conditioning first: the arm kept far from singular postures at the price of travel.
+      // Conditioning and compliance first: the arm kept far from singular postures, and where
+      // the cell has stiffness data, in the postures that deflect least (Caro 2014), at the
+      // price of travel.
       s.w_condition = 10.0;
+      s.w_compliance = 30.0;
       s.condition_threshold = 0.4;
       s.w_travel = 0.3;
       s.w_travel_arm = 1.0;
@@ -83,6 +86,12 @@ PathPlanner::PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettin
       need_per_unit_[iu] = 1.0 / (settings.speed_margin * j.max_velocity);
     }
   }
+  // The joints an edge looks at: the arm's (their step is bounded) and those with a speed.
+  for (int i = 0; i < cell.size(); ++i) {
+    if (arm_.test(static_cast<std::size_t>(i)) || cell.joint(i).has_speed())
+      timed_.push_back(i);
+  }
+  max_arm_step_rad_ = deg_to_rad(settings.max_arm_step_deg);
   for (int i = 0; i < cell.size(); ++i) {
     if (is_arm_joint(ik, i) || settings.locked.test(static_cast<std::size_t>(i)))
       continue;
@@ -102,16 +111,17 @@ PathPlanner::PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettin
                               kMaxFreeJoints, j.name),
                   SourceLocation{cell.source_file, j.source_line, 0});
     }
-    step_[free_.size()] = j.type == JointType::prismatic  ? settings.prismatic_step_mm
+    step_[free_.size()] = j.type == JointType::prismatic
+                              ? settings.prismatic_step_spacings * settings.keyframe_spacing_mm
                           : j.type == JointType::revolute ? deg_to_rad(settings.rotary_step_deg)
                                                           : deg_to_rad(settings.spin_step_deg);
     free_.push_back(i);
   }
 }
 
-bool PathPlanner::evaluate(const PlanKeyframe& kf, const LatticeKey& key, const JointVector& origin,
-                           const JointVector& q_near, JointVector& q, double& cost,
-                           int* limit_joint) const {
+bool PathPlanner::evaluate(const Isometry& T_B_tcp, const LatticeKey& key,
+                           const JointVector& origin, const JointVector& q_near, JointVector& q,
+                           double& cost, int* limit_joint) const {
   const Cell& cell = *cell_;
   JointVector q_other = origin;
   for (std::size_t f = 0; f < free_.size(); ++f) {
@@ -122,7 +132,7 @@ bool PathPlanner::evaluate(const PlanKeyframe& kf, const LatticeKey& key, const 
       return false;
     q_other[i] = v;
   }
-  const ArmIkSolutions sol = ik_->solve(target_frame(kf.target), q_other, &q_near);
+  const ArmIkSolutions sol = ik_->solve(T_B_tcp, q_other, &q_near, key.posture);
   const auto mu = static_cast<std::size_t>(key.posture);
   if (!sol.valid[mu]) {
     if (limit_joint && sol.exists[mu]) {
@@ -152,18 +162,36 @@ bool PathPlanner::evaluate(const PlanKeyframe& kf, const LatticeKey& key, const 
       cost += s.w_limit * d * d;
     }
   }
-  if (s.w_condition > 0.0 && cell.conditioning.declared()) {
-    KinematicsData data;
-    Jacobian J;
-    forward_kinematics(cell, q, data, false);
-    tcp_jacobian(cell, data, J);
-    const double inv_kappa = arm_inverse_condition(cell, J);
-    if (inv_kappa < s.condition_threshold) {
-      const double d = (s.condition_threshold - inv_kappa) / s.condition_threshold;
-      cost += s.w_condition * d * d;
-    }
-  }
   return true;
+}
+
+// The conditioning term of a node's cost, apart from evaluate() because it needs the FK and the
+// Jacobian: the DP asks for it only for nodes that may enter the beam (lattice_dp's refine).
+double PathPlanner::condition_cost(const JointVector& q) const {
+  const PathPlanSettings& s = settings_;
+  const Cell& cell = *cell_;
+  if (!(s.w_condition > 0.0) || !cell.conditioning.declared())
+    return 0.0;
+  KinematicsData data;
+  Jacobian J;
+  forward_kinematics(cell, q, data, false);
+  tcp_jacobian(cell, data, J);
+  const double inv_kappa = arm_inverse_condition(cell, J);
+  if (!(inv_kappa < s.condition_threshold))
+    return 0.0;
+  const double d = (s.condition_threshold - inv_kappa) / s.condition_threshold;
+  return s.w_condition * d * d;
+}
+
+// Caro's machining-quality term of a node (path_plan.hpp): lazy as well (the elastostatic model
+// solves a 6 x 6 system per node).
+double PathPlanner::compliance_cost(const JointVector& q, const Eigen::Vector3d& feed_B,
+                                    const Eigen::Vector3d& z_B) const {
+  const PathPlanSettings& s = settings_;
+  // No feed across the tool axis (a plunge, a pure turn): no direction to deflect across.
+  if (!(s.w_compliance > 0.0) || !s.normal_deflection_mm || !(z_B.cross(feed_B).norm() > 1e-6))
+    return 0.0;
+  return s.w_compliance * s.normal_deflection_mm(q, feed_B, z_B) / s.compliance_ref_mm;
 }
 
 double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
@@ -171,12 +199,11 @@ double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
   const PathPlanSettings& s = settings_;
   const double ds = std::max(to.s_mm - from.s_mm, 0.0);
   const double dt = to.speed_mm_s > 0.0 ? ds / to.speed_mm_s : 0.0;
-  const double max_arm_step = deg_to_rad(s.max_arm_step_deg);
   double travel_s = 0.0, need_s = 0.0;
-  for (int i = 0; i < cell_->size(); ++i) {
+  for (int i : timed_) {
     const auto iu = static_cast<std::size_t>(i);
     const double dq = std::fabs(q1[i] - q0[i]);
-    if (arm_.test(iu) && dq > max_arm_step)
+    if (arm_.test(iu) && dq > max_arm_step_rad_)
       return std::numeric_limits<double>::infinity();
     travel_s += travel_per_unit_[iu] * dq;
     need_s = std::max(need_s, need_per_unit_[iu] * dq);
@@ -253,16 +280,31 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
       origin[i] = settings_.lock_value[i];
   }
   const JointVector q_near = origin;
+  std::vector<Isometry> frames;
+  frames.reserve(keyframes.size());
+  for (const PlanKeyframe& kf : keyframes)
+    frames.push_back(target_frame(kf.target));
+  // The feed direction at each keyframe: towards the next one (from the one before at the end);
+  // zero where the tool only turns.
+  std::vector<Eigen::Vector3d> feed_B(keyframes.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < keyframes.size() && settings_.normal_deflection_mm; ++k) {
+    const std::size_t a = k + 1 < keyframes.size() ? k : k - std::min<std::size_t>(k, 1);
+    const std::size_t b = std::min(a + 1, keyframes.size() - 1);
+    const Eigen::Vector3d d = keyframes[b].target.p_B_mm - keyframes[a].target.p_B_mm;
+    if (d.norm() > 1e-6)
+      feed_B[k] = d.normalized();
+  }
   LatticeDpSettings dp;
   dp.free_joints = static_cast<int>(free_.size());
   dp.reach = {settings_.reach, settings_.reach, settings_.reach};
+  dp.max_moving = settings_.max_moving;
   dp.beam = beam > 0 ? beam : settings_.beam;
   std::vector<int> limit_hits(static_cast<std::size_t>(cell.size()), 0);
   const LatticeDpResult r = lattice_dp(
       static_cast<int>(keyframes.size()), first, dp,
       [&](int layer, const LatticeKey& key, JointVector& q, double& cost) {
         int limit_joint = -1;
-        const bool ok = evaluate(keyframes[static_cast<std::size_t>(layer)], key, origin, q_near, q,
+        const bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q,
                                  cost, &limit_joint);
         if (limit_joint >= 0)
           ++limit_hits[static_cast<std::size_t>(limit_joint)];
@@ -271,6 +313,11 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
       [&](int layer, const LatticeNode& a, const LatticeNode& b) {
         return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
                          keyframes[static_cast<std::size_t>(layer)], a.q, b.q);
+      },
+      [&](int layer, const LatticeNode& n) {
+        const auto k = static_cast<std::size_t>(layer);
+        return condition_cost(n.q) +
+               compliance_cost(n.q, feed_B[k], keyframes[k].target.z_B.normalized());
       });
   out.ik_evaluations = r.evaluations;
   if (!r.feasible) {
@@ -280,6 +327,7 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
     return out;
   }
   out.feasible = true;
+  out.cost = r.cost;
   out.q.reserve(r.path.size());
   for (const LatticeNode& n : r.path)
     out.q.push_back(n.q);
@@ -317,8 +365,10 @@ void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const Latti
     JointVector q_other = q[ku];
     for (int f : free_)
       q_other[f] = free_values[ku][f];
-    const ArmIkSolutions sol = ik_->solve(target_frame(keyframes[ku].target), q_other, &q[ku]);
-    const auto mu = static_cast<std::size_t>(r.path[ku].key.posture);
+    const int posture = r.path[ku].key.posture;
+    const ArmIkSolutions sol =
+        ik_->solve(target_frame(keyframes[ku].target), q_other, &q[ku], posture);
+    const auto mu = static_cast<std::size_t>(posture);
     if (!sol.valid[mu])
       continue;
     bool near = true;

@@ -166,6 +166,36 @@ TEST_CASE("arm_ik: random postures of every shipped cell come back in their own 
   }
 }
 
+TEST_CASE("arm_ik: one posture asked is bit for bit that posture of the full solve", "[arm_ik]") {
+  // The whole-path planner asks for one Status at a time (only_status), and the solver skips the
+  // shoulder and elbow branches that cannot give it: the answer must not change.
+  for (const char* name : test::kShippedCells) {
+    const Cell cell = test::shipped_cell(name);
+    const ArmIk ik(cell);
+    std::mt19937_64 rng(20261202);
+    int compared = 0, differ = 0;
+    for (int n = 0; n < 2000; ++n) {
+      const JointVector q = test::random_posture(cell, rng);
+      const Isometry T = tcp_pose(cell, q);
+      const ArmIkSolutions all = ik.solve(T, q, nullptr);
+      for (int s = 0; s < 8; ++s) {
+        const auto su = static_cast<size_t>(s);
+        const ArmIkSolutions one = ik.solve(T, q, nullptr, s);
+        if (one.valid[su] != all.valid[su] || one.exists[su] != all.exists[su])
+          ++differ;
+        else if (all.exists[su] && one.q[su] != all.q[su])
+          ++differ;
+        for (int o = 0; o < 8; ++o)
+          differ += (o != s && one.valid[static_cast<size_t>(o)]) ? 1 : 0;
+        compared += all.exists[su] ? 1 : 0;
+      }
+    }
+    INFO(name << ": " << compared << " postures compared");
+    CHECK(compared > 5000);
+    CHECK(differ == 0);
+  }
+}
+
 TEST_CASE("arm_ik: a folded pose of every shipped cell has eight distinct postures", "[arm_ik]") {
   for (const char* name : test::kShippedCells) {
     const Cell cell = test::shipped_cell(name);

@@ -42,8 +42,11 @@ class ArmIk {
   // All eight postures reaching the TCP frame T_B_tcp (in {B}). For joints whose range exceeds
   // 360 deg (A4, A6, sometimes A1) the 2*pi-equivalent value within the limits nearest to
   // q_near (the cell's home when null) is chosen. No allocation.
+  // only_status >= 0 (a KUKA Status, 0..7): only that posture is filled in and checked; the
+  // others may still be marked as existing but are never valid (the whole-path planner asks for
+  // one posture per lattice node, and the round trip is most of a solve's time).
   ArmIkSolutions solve(const Isometry& T_B_tcp, const JointVector& q_other,
-                       const JointVector* q_near = nullptr) const;
+                       const JointVector* q_near = nullptr, int only_status = -1) const;
 
   const ArmStatusModel& status_model() const { return status_model_; }
   const std::array<int, 6>& arm_joints() const { return arm_joints_; }  // chain index of A1..A6

@@ -54,6 +54,9 @@ struct MotionSample {
   // Per joint (chain order), the largest fraction of its velocity limit it reaches in this
   // motion; 0 for joints without limits.
   const JointVector* speed_fraction = nullptr;
+  // The whole-path plan's posture the tracker followed at this motion (docs/redundancy.md);
+  // null where none was followed (--plan local, a stretch tracked pose by pose, PTP motions).
+  const JointVector* q_plan = nullptr;
 };
 
 // Called for every written motion, after it was written. Empty: no samples are made.
@@ -144,6 +147,11 @@ struct PostSummary {
   std::vector<FeedLimit> feed_limits;  // where an axis keeps the feed 5 % or more below the ask
   long feed_limits_total = 0;          // how many there were (feed_limits keeps the first 1000)
   int untimed_tool_changes = 0;        // tool changes (HALT or a routine) the model cannot time
+
+  // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
+  long plan_windows = 0;           // windows planned
+  long plan_fallback_windows = 0;  // of them, tracked pose by pose (no sequence on the lattice)
+  long plan_ik_evaluations = 0;    // lattice nodes solved (closed-form IK of one posture each)
 };
 
 class PostSession {

@@ -5,11 +5,11 @@
 // Layer k is a keyframe of the path. A node is a lattice key (an integer step count per free
 // joint, and the arm's posture) with the joint vector the caller's evaluation gives it and a
 // node cost; an edge joins nodes of consecutive layers whose keys differ by at most `reach` steps
-// per free joint and share the posture. The layers are built forward: the nodes of layer k+1
-// are the lattice neighbours of layer k's survivors, each with its cheapest parent (the cost to
-// come), and only the `beam` cheapest survive into the next layer. With an unbounded beam this
-// is the exact minimum over every sequence of keys that keeps to the reach (tested against
-// brute force); the beam keeps the work per layer bounded.
+// per free joint, in at most `max_moving` free joints, and share the posture. The layers are built
+// forward: the nodes of layer k+1 are the lattice neighbours of layer k's survivors, each with its
+// cheapest parent (the cost to come), and only the `beam` cheapest survive into the next layer.
+// With an unbounded beam this is the exact minimum over every sequence of keys that keeps to the
+// reach (tested against brute force); the beam keeps the work per layer bounded.
 #pragma once
 
 #include <algorithm>
@@ -17,7 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "redpost/kinematics/types.hpp"
@@ -45,6 +45,9 @@ struct LatticeDpSettings {
   int free_joints = 0;                             // how many entries of LatticeKey::step are used
   std::array<int, kMaxFreeJoints> reach{1, 1, 1};  // largest step change between layers
   int beam = 48;                                   // nodes kept per layer (<= 0: all)
+  // Free joints that may change together between layers (the rest hold): fewer neighbours per
+  // node. The planner lets two of three move at once; a move of all three is two keyframes'.
+  int max_moving = kMaxFreeJoints;
 };
 
 struct LatticeDpResult {
@@ -53,29 +56,54 @@ struct LatticeDpResult {
   double cost = 0.0;              // of the path found
   std::vector<LatticeNode> path;  // one node per layer
   long evaluations = 0;           // nodes evaluated (for the benchmark)
+  long refinements = 0;           // nodes refined (the lazy term asked)
 };
 
 namespace detail {
 
-struct LatticeKeyHash {
-  std::size_t operator()(const LatticeKey& k) const {
+// The candidate keys of a layer, numbered in the order they are first met: an open-addressing
+// table (linear probing, power-of-two size) that keeps its memory from layer to layer, because
+// a node-based map's allocations were a tenth of the planner's time.
+class KeyTable {
+ public:
+  // Clears the table for up to n keys.
+  void reset(std::size_t n) {
+    std::size_t size = 16;
+    while (size < 2 * n)
+      size *= 2;
+    if (slots_.size() != size)
+      slots_.assign(size, Slot{});
+    else
+      std::fill(slots_.begin(), slots_.end(), Slot{});
+  }
+  // The number of `key`: `next` (and stored so) when it is new.
+  int find_or_add(const LatticeKey& key, int next) {
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = hash(key) & mask;; i = (i + 1) & mask) {
+      Slot& slot = slots_[i];
+      if (slot.index < 0) {
+        slot.key = key;
+        slot.index = next;
+        return next;
+      }
+      if (slot.key == key)
+        return slot.index;
+    }
+  }
+
+ private:
+  struct Slot {
+    LatticeKey key;
+    int index = -1;
+  };
+  static std::size_t hash(const LatticeKey& k) {
     std::uint64_t h = static_cast<std::uint64_t>(k.posture) * 0x9E3779B97F4A7C15ull;
     for (int s : k.step)
       h = (h ^ static_cast<std::uint64_t>(static_cast<std::uint32_t>(s))) * 0x100000001B3ull;
-    return static_cast<std::size_t>(h);
+    return static_cast<std::size_t>(h ^ (h >> 29));
   }
+  std::vector<Slot> slots_;
 };
-
-inline bool within_reach(const LatticeKey& a, const LatticeKey& b, const LatticeDpSettings& s) {
-  if (a.posture != b.posture)
-    return false;
-  for (int j = 0; j < s.free_joints; ++j) {
-    if (std::abs(a.step[static_cast<std::size_t>(j)] - b.step[static_cast<std::size_t>(j)]) >
-        s.reach[static_cast<std::size_t>(j)])
-      return false;
-  }
-  return true;
-}
 
 inline void keep_beam(std::vector<LatticeNode>& layer, int beam) {
   if (beam <= 0 || static_cast<int>(layer.size()) <= beam)
@@ -85,18 +113,91 @@ inline void keep_beam(std::vector<LatticeNode>& layer, int beam) {
   layer.resize(static_cast<std::size_t>(beam));
 }
 
+inline std::size_t neighbour_count(const LatticeDpSettings& s) {
+  std::size_t n = 1;
+  for (int j = 0; j < s.free_joints; ++j)
+    n *= static_cast<std::size_t>(2 * s.reach[static_cast<std::size_t>(j)] + 1);
+  return n;
+}
+
+// Calls f(key) for every key within reach of `centre` (centre included).
+template <class F>
+void for_each_neighbour(const LatticeKey& centre, const LatticeDpSettings& s, F&& f) {
+  std::array<int, kMaxFreeJoints> lo{}, hi{};
+  for (int j = 0; j < s.free_joints; ++j) {
+    lo[static_cast<std::size_t>(j)] = -s.reach[static_cast<std::size_t>(j)];
+    hi[static_cast<std::size_t>(j)] = s.reach[static_cast<std::size_t>(j)];
+  }
+  std::array<int, kMaxFreeJoints> d{};
+  for (d[0] = lo[0]; d[0] <= hi[0]; ++d[0]) {
+    for (d[1] = lo[1]; d[1] <= hi[1]; ++d[1]) {
+      for (d[2] = lo[2]; d[2] <= hi[2]; ++d[2]) {
+        if ((d[0] != 0) + (d[1] != 0) + (d[2] != 0) > s.max_moving)
+          continue;
+        LatticeKey k = centre;
+        for (std::size_t j = 0; j < kMaxFreeJoints; ++j)
+          k.step[j] += d[j];
+        f(k);
+      }
+    }
+  }
+}
+
+// The `beam` cheapest nodes of a layer whose costs so far are lower bounds, adding refine's
+// non-negative extra cost (a costly term, such as the conditioning) lazily: nodes are refined
+// in the order of their bounds, and the search stops once `beam` refined nodes cost no more than
+// the next bound. The result is the beam an eager refinement of every node would keep (ties
+// aside), with far fewer refinements where the extra cost is mostly zero.
+template <class Refine>
+void keep_beam_lazy(int layer, std::vector<LatticeNode>& nodes, int beam, Refine& refine,
+                    long& refinements) {
+  std::vector<int> order(nodes.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = static_cast<int>(i);
+  const auto cost_of = [&](int i) { return nodes[static_cast<std::size_t>(i)].cost; };
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return cost_of(a) < cost_of(b); });
+  std::vector<LatticeNode> kept;
+  std::vector<double> worst;  // max-heap of the kept costs, at most `beam` of them
+  for (int i : order) {
+    LatticeNode& n = nodes[static_cast<std::size_t>(i)];
+    if (beam > 0 && static_cast<int>(worst.size()) >= beam && worst.front() <= n.cost)
+      break;
+    ++refinements;
+    const double extra = refine(layer, n);
+    if (!(extra >= 0.0) || !std::isfinite(extra))
+      continue;
+    n.node_cost += extra;
+    n.cost += extra;
+    kept.push_back(std::move(n));
+    worst.push_back(kept.back().cost);
+    std::push_heap(worst.begin(), worst.end());
+    if (beam > 0 && static_cast<int>(worst.size()) > beam) {
+      std::pop_heap(worst.begin(), worst.end());
+      worst.pop_back();
+    }
+  }
+  keep_beam(kept, beam);
+  nodes.swap(kept);
+}
+
 }  // namespace detail
 
 // evaluate(layer, key, q, node_cost) -> bool: the joint vector of `key` at `layer` and its cost;
 // false where the key is infeasible there (no inverse kinematics, a limit).
 // edge(layer, from, to) -> double: the cost of going from `from` (layer - 1) to `to` (layer);
 // +inf where forbidden.
-template <class Evaluate, class Edge>
+// refine(layer, node) -> double: a further non-negative node cost, asked only of the nodes that
+// may enter the beam (detail::keep_beam_lazy); +inf or NaN drops the node.
+template <class Evaluate, class Edge, class Refine>
 LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys,
-                           const LatticeDpSettings& settings, Evaluate&& evaluate, Edge&& edge) {
+                           const LatticeDpSettings& settings, Evaluate&& evaluate, Edge&& edge,
+                           Refine&& refine) {
   LatticeDpResult result;
-  const double inf = std::numeric_limits<double>::infinity();
   std::vector<std::vector<LatticeNode>> kept(static_cast<std::size_t>(std::max(layers, 0)));
+  detail::KeyTable seen;
+  std::vector<LatticeKey> candidates;
+  std::vector<std::pair<int, int>> edges;  // (index in the layer before, candidate)
+  std::vector<char> valid;
   for (int layer = 0; layer < layers; ++layer) {
     std::vector<LatticeNode>& here = kept[static_cast<std::size_t>(layer)];
     if (layer == 0) {
@@ -111,58 +212,55 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
       }
     } else {
       const std::vector<LatticeNode>& before = kept[static_cast<std::size_t>(layer - 1)];
-      // The candidate keys: every neighbour of a survivor, once.
-      std::unordered_map<LatticeKey, int, detail::LatticeKeyHash> seen;
-      std::vector<LatticeKey> candidates;
-      for (const LatticeNode& p : before) {
-        std::array<int, kMaxFreeJoints> d{};
-        const auto& r = settings.reach;
-        for (d[0] = -r[0]; d[0] <= r[0]; ++d[0]) {
-          for (d[1] = -r[1]; d[1] <= r[1]; ++d[1]) {
-            for (d[2] = -r[2]; d[2] <= r[2]; ++d[2]) {
-              bool unused_moves = false;
-              for (int j = settings.free_joints; j < kMaxFreeJoints; ++j)
-                unused_moves = unused_moves || d[static_cast<std::size_t>(j)] != 0;
-              if (unused_moves)
-                continue;
-              LatticeKey k = p.key;
-              for (int j = 0; j < settings.free_joints; ++j)
-                k.step[static_cast<std::size_t>(j)] += d[static_cast<std::size_t>(j)];
-              if (seen.emplace(k, static_cast<int>(candidates.size())).second)
-                candidates.push_back(k);
-            }
-          }
+      // The candidate keys: every neighbour of a survivor, once; and every (survivor,
+      // candidate) edge, in the survivors' order so that ties resolve as a plain scan would.
+      seen.reset(before.size() * detail::neighbour_count(settings));
+      candidates.clear();
+      edges.clear();
+      for (std::size_t i = 0; i < before.size(); ++i) {
+        detail::for_each_neighbour(before[i].key, settings, [&](const LatticeKey& k) {
+          const int c = seen.find_or_add(k, static_cast<int>(candidates.size()));
+          if (c == static_cast<int>(candidates.size()))
+            candidates.push_back(k);
+          edges.emplace_back(static_cast<int>(i), c);
+        });
+      }
+      std::vector<LatticeNode> nodes(candidates.size());
+      valid.assign(candidates.size(), 0);
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        LatticeNode& n = nodes[c];
+        n.key = candidates[c];
+        n.cost = std::numeric_limits<double>::infinity();
+        ++result.evaluations;
+        valid[c] = evaluate(layer, n.key, n.q, n.node_cost) && std::isfinite(n.node_cost);
+      }
+      for (const auto& [i, c] : edges) {
+        if (!valid[static_cast<std::size_t>(c)])
+          continue;
+        LatticeNode& n = nodes[static_cast<std::size_t>(c)];
+        const LatticeNode& p = before[static_cast<std::size_t>(i)];
+        const double cost = p.cost + edge(layer, p, n);
+        if (cost < n.cost) {
+          n.cost = cost;
+          n.parent = i;
         }
       }
       here.reserve(candidates.size());
-      for (const LatticeKey& key : candidates) {
-        LatticeNode n;
-        n.key = key;
-        ++result.evaluations;
-        if (!evaluate(layer, key, n.q, n.node_cost) || !std::isfinite(n.node_cost))
-          continue;
-        n.cost = inf;
-        for (std::size_t i = 0; i < before.size(); ++i) {
-          if (!detail::within_reach(before[i].key, key, settings))
-            continue;
-          const double c = before[i].cost + edge(layer, before[i], n);
-          if (c < n.cost) {
-            n.cost = c;
-            n.parent = static_cast<int>(i);
-          }
-        }
-        if (n.parent >= 0 && std::isfinite(n.cost)) {
+      for (std::size_t c = 0; c < candidates.size(); ++c) {
+        LatticeNode& n = nodes[c];
+        if (valid[c] && n.parent >= 0 && std::isfinite(n.cost)) {
           n.cost += n.node_cost;
-          here.push_back(n);
+          here.push_back(std::move(n));
         }
       }
     }
+    // The last layer keeps its cheapest node only.
+    detail::keep_beam_lazy(layer, here, layer + 1 < layers ? settings.beam : 1, refine,
+                           result.refinements);
     if (here.empty()) {
       result.dead_layer = layer;
       return result;
     }
-    if (layer + 1 < layers)
-      detail::keep_beam(here, settings.beam);
   }
   if (layers <= 0)
     return result;
@@ -173,13 +271,21 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
   result.feasible = true;
   result.cost = best->cost;
   result.path.resize(static_cast<std::size_t>(layers));
-  int index = static_cast<int>(best - last.begin());
+  int at = static_cast<int>(best - last.begin());
   for (int layer = layers - 1; layer >= 0; --layer) {
-    const LatticeNode& n = kept[static_cast<std::size_t>(layer)][static_cast<std::size_t>(index)];
+    const LatticeNode& n = kept[static_cast<std::size_t>(layer)][static_cast<std::size_t>(at)];
     result.path[static_cast<std::size_t>(layer)] = n;
-    index = n.parent;
+    at = n.parent;
   }
   return result;
+}
+
+// Without a lazy term.
+template <class Evaluate, class Edge>
+LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys,
+                           const LatticeDpSettings& settings, Evaluate&& evaluate, Edge&& edge) {
+  return lattice_dp(layers, first_keys, settings, std::forward<Evaluate>(evaluate),
+                    std::forward<Edge>(edge), [](int, const LatticeNode&) { return 0.0; });
 }
 
 }  // namespace redpost

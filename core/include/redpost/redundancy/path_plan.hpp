@@ -8,6 +8,7 @@
 #pragma once
 
 #include <bitset>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,12 +33,17 @@ enum class PlanPreset { smooth, stiff, fast };
 
 struct PathPlanSettings {
   double keyframe_spacing_mm = 20.0;
-  // Lattice steps of the free joints: prismatic (mm), revolute (deg), the virtual spin (deg).
-  double prismatic_step_mm = 20.0;
+  // Lattice steps of the free joints. A prismatic joint's is a multiple of the keyframe
+  // spacing: with a reach of one step it may then move twice as fast as the tool along the
+  // path; at one spacing it could only keep pace, and a track once behind never caught up.
+  double prismatic_step_spacings = 2.0;
   double rotary_step_deg = 3.0;
   double spin_step_deg = 10.0;
   int reach = 1;  // lattice steps a free joint may change between keyframes
-  int beam = 48;  // nodes kept per keyframe
+  // Free joints that may change at once between keyframes: 2 of 3 keeps 19 of the 27
+  // neighbours, 13 % fewer IK solutions with plans as good (docs/redundancy.md).
+  int max_moving = 2;
+  int beam = 24;  // nodes kept per keyframe
   // The first keyframe of a program (no committed posture): every free joint sampled over its
   // range in this many lattice steps at a time (a coarse first layer).
   int first_layer_stride = 4;
@@ -49,7 +55,7 @@ struct PathPlanSettings {
   double w_limit = 1.0;  // per joint, (zone - margin)^2 / zone^2 inside the zone
   // Joint centring of the arm (Andres eq. 13's first goal, as a cost): per arm joint,
   // ((q - home) / half-range)^2. It makes the external axes carry the path.
-  double w_centre = 5.0;
+  double w_centre = 30.0;
   double limit_zone = 0.1;   // fraction of the range
   double w_condition = 1.0;  // (threshold - 1/kappa_F)^2 / threshold^2 below the threshold
   double condition_threshold = 0.3;
@@ -58,7 +64,16 @@ struct PathPlanSettings {
   // accuracy (Caro 2014), so the track and the table should carry the path.
   double w_travel_arm = 3.0;
   double w_time = 20.0;  // per second the axes need beyond the time the feed gives
-  double max_arm_step_deg = 12.0;
+  // Compliance (Caro 2014 eq. 5.1, with stiffness data in the cell): per keyframe,
+  // w_compliance * c / compliance_ref_mm, c the tool's deflection normal to the feed and the
+  // tool axis under a nominal cutting load, given by normal_deflection_mm (set by the session
+  // from the elastostatic model; empty: no such term). Arguments: the posture, the feed
+  // direction and the tool axis (unit, in {B}).
+  double w_compliance = 1.0;
+  double compliance_ref_mm = 0.1;
+  std::function<double(const JointVector&, const Eigen::Vector3d&, const Eigen::Vector3d&)>
+      normal_deflection_mm;
+  double max_arm_step_deg = 30.0;
   // Keyframes each side of the moving average that smooths the lattice's steps (0: none).
   int smoothing = 3;
   // Joints held (not sampled): their value from the start posture or lock_value.
@@ -70,6 +85,7 @@ PathPlanSettings plan_preset(PlanPreset preset);
 
 struct PlanWindowResult {
   bool feasible = false;
+  double cost = 0.0;           // of the sequence found (before smoothing)
   int dead_keyframe = -1;      // the first keyframe no sequence reaches
   int limiting_joint = -1;     // the joint most often out of its limits there (-1: unknown)
   std::vector<JointVector> q;  // planned posture per keyframe
@@ -94,8 +110,11 @@ class PathPlanner {
   const PathPlanSettings& settings() const { return settings_; }
 
  private:
-  bool evaluate(const PlanKeyframe& kf, const LatticeKey& key, const JointVector& origin,
+  bool evaluate(const Isometry& T_B_tcp, const LatticeKey& key, const JointVector& origin,
                 const JointVector& q_near, JointVector& q, double& cost, int* limit_joint) const;
+  double condition_cost(const JointVector& q) const;
+  double compliance_cost(const JointVector& q, const Eigen::Vector3d& feed_B,
+                         const Eigen::Vector3d& z_B) const;
   double edge_cost(const PlanKeyframe& from, const PlanKeyframe& to, const JointVector& q0,
                    const JointVector& q1) const;
   std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin) const;
@@ -109,7 +128,9 @@ class PathPlanner {
   // Per joint: travel weight over the velocity limit (0: no limit known), 1 / (margin * limit),
   // and whether it is an arm joint (its step between keyframes is bounded).
   std::array<double, kMaxJoints> travel_per_unit_{}, need_per_unit_{};
-  std::bitset<kMaxJoints> arm_;                // chain indices of the sampled joints
+  std::bitset<kMaxJoints> arm_;  // chain indices of the sampled joints
+  std::vector<int> timed_;       // the arm's joints and those with a speed
+  double max_arm_step_rad_ = 0.0;
   std::array<double, kMaxFreeJoints> step_{};  // lattice step per free joint (DH units)
 };
 

@@ -108,6 +108,8 @@ class Tracker {
   void follow(const JointVector& q_plan, double gain, double max_motion);
   void stop_following();
   bool following() const { return following_; }
+  // The planned posture followed (null when not following).
+  const JointVector* plan_target() const { return following_ ? &q_plan_ : nullptr; }
 
   const JointVector& q() const { return q_; }
   // The TCP pose at q() (valid after a converged track(); computed otherwise).
