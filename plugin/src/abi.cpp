@@ -287,7 +287,7 @@ RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_directio
 RP_API rp_status rp_feed(rp_session* session, double mm_per_min) {
   if (!session)
     return null_handle("the session");
-  return session->event([&] { session->post->feed(mm_per_min); });
+  return session->event([&] { session->post->feed(mm_per_min, session->current_line()); });
 }
 
 RP_API rp_status rp_rapid(rp_session* session) {

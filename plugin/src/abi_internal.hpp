@@ -170,4 +170,7 @@ struct rp_reader {
   std::unique_ptr<redpost::ClReader> reader;
   redpost::ClEvent event;
   std::string error;
+  // A reader that failed stays failed: every later rp_reader_next gives this status and the
+  // same error, not a clean end of a half-read file.
+  rp_status failed = RP_OK;
 };

@@ -71,7 +71,12 @@ RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* op
 RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
   if (!reader)
     return null_handle("the reader");
-  return guard(reader->error, "", [&] {
+  if (reader->failed != RP_OK) {
+    if (more)
+      *more = 0;
+    return reader->failed;
+  }
+  const rp_status status = guard(reader->error, "", [&] {
     if (!event || !more)
       throw AbiError{RP_ERR_NULL, "rp_reader_next: event or more is NULL"};
     *more = 0;
@@ -161,6 +166,9 @@ RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
     *event = out;
     *more = 1;
   });
+  if (status != RP_OK && status != RP_ERR_NULL)
+    reader->failed = status;
+  return status;
 }
 
 RP_API const char* rp_reader_last_error(const rp_reader* reader) {

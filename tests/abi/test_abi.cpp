@@ -268,6 +268,29 @@ TEST_CASE("abi: NaN coordinates and a zero tool axis are RP_ERR_BAD_INPUT naming
   }
 }
 
+TEST_CASE("abi: a feed $VEL.CP cannot say is RP_ERR_BAD_INPUT at its line, nothing written") {
+  // 1e300 mm/min once printed a 296-digit $VEL.CP; 1e-4 mm/min printed 0.000000 (issue 18).
+  const std::string dir = fresh_dir("feed_range");
+  for (const double feed : {1e300, 1.2e5 + 1.0, 1e-4}) {
+    INFO("feed " << feed);
+    rp_options o = options_for(dir, "T");
+    o.source_name = "feeds.apt";
+    rp_session* s = nullptr;
+    REQUIRE(rp_open(&o, &s) == RP_OK);
+    CHECK(rp_set_line(s, 7) == RP_OK);
+    CHECK(rp_feed(s, feed) == RP_ERR_BAD_INPUT);
+    CHECK(contains(rp_last_error(s), "feeds.apt:7: feed "));
+    CHECK(contains(rp_last_error(s), "$VEL.CP"));
+    rp_free(s);
+  }
+  CHECK(fs::is_empty(dir));
+  // The limits themselves are feeds: 120 000 mm/min is 2 m/s.
+  rp_session* s = open_started(dir);
+  CHECK(rp_feed(s, 1.2e5) == RP_OK);
+  CHECK(rp_feed(s, 0.06) == RP_OK);
+  rp_free(s);
+}
+
 TEST_CASE("abi: calls after rp_close are RP_ERR_STATE, the files are in place") {
   const std::string dir = fresh_dir("closed");
   rp_session* s = open_started(dir);
@@ -335,6 +358,15 @@ TEST_CASE("abi: a malformed CL file: the reader's error has file:line:column") {
     st = rp_reader_next(r, &e, &more);
   CHECK(st == RP_ERR_BAD_INPUT);
   CHECK(contains(rp_reader_last_error(r), "bad.apt:4:"));
+  // A failed reader stays failed (it once answered RP_OK and no more records: a clean end of a
+  // half-read file).
+  const std::string first = rp_reader_last_error(r);
+  for (int k = 0; k < 2; ++k) {
+    more = 1;
+    CHECK(rp_reader_next(r, &e, &more) == RP_ERR_BAD_INPUT);
+    CHECK(more == 0);
+    CHECK(rp_reader_last_error(r) == first);
+  }
   rp_reader_free(r);
 }
 

@@ -50,6 +50,10 @@ deep placement_job "$GEN/deep_job.xml"
 truncate -s 20M "$GEN/big_cell.xml"
 # Binary garbage: a compressed CL file (a common mistake) and a compressed readings file.
 gzip -c "$SRC/examples/cl/pocket_arcs.apt" >"$GEN/pocket_arcs.apt.gz"
+# A NUL in an INSERT's text (it once cut the text there), and a cell file with a second root.
+printf 'PARTNO/NUL\nUNITS/MM\nLOADTL/1\nINSERT/A\000BCD\nGOTO/-100,-300,100\n' >"$GEN/nul_in_insert.apt"
+{ cat "$SRC/definitions/cells/andres2011_kr15_track_table.xml"; printf '<cell name="second"/>\n'; } \
+  >"$GEN/two_roots_cell.xml"
 printf 'plane,distance,x,y,z,a,b,c,q1,q2\n' | cat - "$GEN/pocket_arcs.apt.gz" >"$GEN/garbage.csv"
 # An unreadable file (chmod 000 does not stop root: those cases are skipped as root).
 cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/unreadable.apt"

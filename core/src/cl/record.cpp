@@ -138,6 +138,10 @@ void ClRecordReader::parse_record() {
     }
   }
   normalise_word(rec.substr(begin, word_end - begin));
+  // A NUL after a good word is binary data too, and would cut an INSERT's or a PPRINT's text
+  // where it stands.
+  if (const std::size_t nul = rec.find('\0'); nul != std::string_view::npos)
+    fail_at(nul, "malformed record: byte 0x00: is this a CL text file (APT or CLSF)?");
 }
 
 // Upper case, runs of blanks to one space; a word is letters, digits, '_' and '-', starting

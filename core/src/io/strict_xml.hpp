@@ -79,6 +79,11 @@ class StrictXml {
       fail(root,
            std::string("the root element is <") + root->Name() + ">, expected <" + root_name + ">");
     }
+    // tinyxml2 reads a second element after the root without a word: one root per file.
+    if (const tinyxml2::XMLElement* more = root->NextSiblingElement()) {
+      fail(more, std::string("a second root element <") + more->Name() + "> after </" + root_name +
+                     ">: one <" + root_name + "> per file");
+    }
     return root;
   }
 

@@ -18,6 +18,7 @@
 
 #include "krl/writer_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/krl/check.hpp"
 
 namespace redpost {
 
@@ -59,6 +60,12 @@ void check_program_info(const KrlProgramInfo& info) {
   }
   if (!std::isfinite(info.apo_mm) || info.apo_mm < 0.0) {
     throw Error(ErrorCode::bad_input, "$APO.CDIS must be a finite distance >= 0 mm");
+  }
+  if (info.apo_mm > kKrlMaxApoCdisMm) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("$APO.CDIS {:g} mm is beyond {:g} mm: the approximation distance is "
+                            "a few millimetres (--apo, default 0.5)",
+                            info.apo_mm, kKrlMaxApoCdisMm));
   }
   for (const std::string* s : {&info.base, &info.tool}) {
     if (s->empty() || std::any_of(s->begin(), s->end(), [](char ch) {

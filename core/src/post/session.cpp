@@ -10,6 +10,7 @@
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/krl/check.hpp"
 #include "redpost/krl/statement.hpp"
 
 namespace redpost {
@@ -165,7 +166,7 @@ void PostSession::handle(const ClEvent& e) {
       spindle(e.value, e.direction);
       break;
     case ClEventKind::feed:
-      feed(e.value);
+      feed(e.value, e.line);
       break;
     case ClEventKind::rapid:
       rapid();
@@ -263,9 +264,26 @@ void PostSession::spindle(double rpm, SpindleDirection direction) {
                         direction != SpindleDirection::counter_clockwise);
 }
 
-void PostSession::feed(double mm_per_min) {
-  if (!std::isfinite(mm_per_min) || !(mm_per_min > 0.0)) {
-    throw Error(ErrorCode::bad_input, fmt::format("feed {} mm/min is not valid", mm_per_min));
+void PostSession::feed(double mm_per_min, int cl_line) {
+  const SourceLocation at{impl_->o.source_name, cl_line, 0};
+  if (!std::isfinite(mm_per_min) || !(mm_per_min > 0.0))
+    throw Error(ErrorCode::bad_input, fmt::format("feed {} mm/min is not valid", mm_per_min), at);
+  // What `redpost check` accepts of a $VEL.CP (krl/check.hpp), and what prints as more than 0.
+  const double m_per_s = mm_per_min / 60000.0;
+  const double smallest = 0.5 * std::pow(10.0, -impl_->velocity_decimals);
+  if (m_per_s > kKrlMaxVelCp) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("feed {:g} mm/min is {:g} m/s: $VEL.CP takes at most {:g} m/s "
+                            "({:g} mm/min); check the feed's unit (MMPM, IPM)",
+                            mm_per_min, m_per_s, kKrlMaxVelCp, 60000.0 * kKrlMaxVelCp),
+                at);
+  }
+  if (m_per_s < smallest) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("feed {:g} mm/min would be written as $VEL.CP = 0 at the template "
+                            "set's {} decimals (at least {:g} mm/min); check the feed's unit",
+                            mm_per_min, impl_->velocity_decimals, 60000.0 * smallest),
+                at);
   }
   ClEvent e;
   e.kind = ClEventKind::feed;

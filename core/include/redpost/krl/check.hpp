@@ -25,6 +25,9 @@ struct KrlFinding {
 inline constexpr size_t kKrlDefaultMaxBytes = 5u * 1000u * 1000u;  // 5 MB (docs/krl-diff.md)
 inline constexpr int kKrlMaxIdentifierLength = 24;
 inline constexpr double kKrlMaxVelCp = 2.0;  // m/s
+// $APO.CDIS the writer accepts, mm: the controller blends over at most half a motion anyway, and a
+// larger value is a slip of the keyboard (1e300 is not even a KRL REAL).
+inline constexpr double kKrlMaxApoCdisMm = 1000.0;
 
 struct KrlCheckOptions {
   const Cell* cell = nullptr;  // limits of A1..A6/E1..E6; nullptr: not checked

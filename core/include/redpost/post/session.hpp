@@ -170,7 +170,9 @@ class PostSession {
   void tool_change(int number, const std::string& name, double diameter_mm, double length_mm,
                    int cl_line = 0);
   void spindle(double rpm, SpindleDirection direction);
-  void feed(double mm_per_min);
+  // A feed the controller can take: $VEL.CP within (0, 2] m/s and not 0 at the template set's
+  // decimals; else Error(bad_input) at cl_line.
+  void feed(double mm_per_min, int cl_line = 0);
   void rapid();  // the next move is a rapid traverse
   void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
   // An arc from the last move's CL point to p_mm about the axis through `centre`, turning by the
