@@ -30,6 +30,7 @@
 #include "redpost/calibration/validation.hpp"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/cell_xml.hpp"
 #include "redpost/krl/template.hpp"
@@ -253,6 +254,9 @@ int run_plan(const PlanArgs& args) {
 }
 
 int run_simulate(const SimulateArgs& args) {
+  check_output_target(args.plan.out, "-o");
+  check_distinct_files({{"--cell", args.plan.cell_path}, {"--true", args.true_path}},
+                       {{"-o", args.plan.out}});
   const Cell cell = load_cell(args.plan.cell_path);
   const Cell truth = load_cell(args.true_path);
   if (truth.size() != cell.size())
@@ -365,6 +369,16 @@ int run_calibrate(const CalibrateArgs& args) {
     throw Error(ErrorCode::bad_input,
                 "calibrate: --cell and --readings are required (or use 'calibrate plan' or "
                 "'calibrate simulate'; see --help)");
+  // An output over an input, or over another output, would destroy it: refused before reading.
+  const std::vector<NamedPath> outputs = {
+      {"-o", args.out}, {"--json", args.json}, {"--report", args.report}};
+  for (const NamedPath& o : outputs) {
+    if (!o.path.empty())
+      check_output_target(o.path, o.role);
+  }
+  check_distinct_files(
+      {{"--cell", args.cell_path}, {"--readings", args.readings}, {"--validate", args.validate}},
+      outputs);
   const Cell cell = load_cell(args.cell_path);
   const std::vector<CalibrationParameter> params = parse_calibration_parameters(args.params, cell);
   const std::vector<CalibrationPoint> points = load_readings_csv(args.readings, cell);

@@ -12,12 +12,15 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "convert_report.hpp"
 #include "redpost.h"
+#include "redpost/io/durable_write.hpp"
+#include "redpost/io/output_target.hpp"
 
 namespace redpost::cli {
 
@@ -234,16 +237,31 @@ void check_report_folder(const std::string& path) {
   }
 }
 
-int run_convert(const ConvertOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
+// Outputs that would destroy an input or each other, and a --report that is not a regular file,
+// are refused before anything is read (the library checks the program and the joints CSV too,
+// but does not know the report, and names the options as a C host sees them).
+void check_outputs(const ConvertOptions& opt, const std::string& name) {
   if (!opt.report_html.empty())
-    check_report_folder(opt.report_html);
+    check_output_target(opt.report_html, "--report");
+  const auto program_file = [&](const char* ext) {
+    return (std::filesystem::path(opt.output_dir) / (name + ext)).string();
+  };
+  check_distinct_files({{"the CL input", opt.input},
+                        {"--cell", opt.cell_path},
+                        {"--krl", opt.krl_path},
+                        {"--tools", opt.tools_path}},
+                       {{"the program's .src", program_file(".src")},
+                        {"the program's .dat", program_file(".dat")},
+                        {"--joints-csv", opt.joints_csv},
+                        {"--report", opt.report_html}});
+}
+
+// The session's options from the command line; `o` points into `opt` and `name`.
+void session_options(const ConvertOptions& opt, const std::string& name, rp_options& o) {
   double placement[6] = {0, 0, 0, 0, 0, 0};
   if (!opt.placement.empty())
     parse_placement(opt.placement, placement);
 
-  const std::string name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
-  rp_options o;
   rp_options_init(&o);
   o.cell_path = opt.cell_path.c_str();
   o.krl_path = opt.krl_path.empty() ? nullptr : opt.krl_path.c_str();
@@ -284,10 +302,18 @@ int run_convert(const ConvertOptions& opt) {
   o.keyframe_spacing_mm = opt.keyframe_spacing_mm;
   for (const std::string& l : opt.locks)
     parse_lock(l, o);
+}
 
+int run_convert(const ConvertOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!opt.report_html.empty())
+    check_report_folder(opt.report_html);
+  const std::string name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
+  rp_options o;
+  session_options(opt, name, o);
+  check_outputs(opt, name);
   Handles h;
-  if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
-    return report(st, rp_last_error(nullptr));
+  // The input first: a FIFO without a writer blocks here, before any output file exists.
   rp_reader_options ro;
   rp_reader_options_init(&ro);
   ro.chordal_tolerance_mm = opt.chordal_tolerance_mm;
@@ -296,6 +322,8 @@ int run_convert(const ConvertOptions& opt) {
   if (const rp_status st = rp_reader_open_ex(opt.input.c_str(), &ro, &h.reader); st != RP_OK) {
     return report(st, rp_last_error(nullptr));
   }
+  if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
+    return report(st, rp_last_error(nullptr));
   // The observer is attached only for --report: without it the session makes no samples.
   std::unique_ptr<ConvertReport> html;
   if (!opt.report_html.empty())
@@ -332,13 +360,15 @@ int run_convert(const ConvertOptions& opt) {
     if (html)
       reader_warnings.emplace_back(w);
   }
-  if (const rp_status st = rp_close(h.session); st != RP_OK)
+  // Everything is written and flushed before anything is renamed: the report too, so that a
+  // full disk or a bad report path stops the run with an old program of the name still whole.
+  if (const rp_status st = rp_prepare(h.session); st != RP_OK)
     return report(st, rp_last_error(h.session));
   for (int i = 0; const char* w = rp_warning(h.session, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  // Only after a complete conversion: a failed one leaves no report behind.
+  std::optional<PreparedTexts> report_file;
   if (html) {
     ConvertReportContext context;
     context.input = opt.input;
@@ -346,8 +376,13 @@ int run_convert(const ConvertOptions& opt) {
     context.program = name;
     context.seconds = seconds;
     context.reader_warnings = std::move(reader_warnings);
-    html->write(opt.report_html, h.session, context);
+    report_file.emplace(std::vector<TextOutput>{
+        TextOutput{opt.report_html, html->html(opt.report_html, h.session, context)}});
   }
+  if (const rp_status st = rp_close(h.session); st != RP_OK)
+    return report(st, rp_last_error(h.session));
+  if (report_file)
+    report_file->commit();
   if (!opt.quiet)
     print_summary(h.session, seconds);
   return kExitOk;

@@ -578,8 +578,8 @@ void add_toolpath_section(rep::HtmlReport& r, const ConvertReport::Impl& d) {
 
 }  // namespace
 
-void ConvertReport::write(const std::string& path, const rp_session* session,
-                          const ConvertReportContext& context) const {
+std::string ConvertReport::html(const std::string& path, const rp_session* session,
+                                const ConvertReportContext& context) const {
   const Impl& d = *impl_;
   rp_summary summary{};
   rp_summary_get(session, &summary);
@@ -597,11 +597,11 @@ void ConvertReport::write(const std::string& path, const rp_session* session,
     add_plan_section(r, d);
     add_solver_and_feed_section(r, d);
     add_toolpath_section(r, d);
-    write_text_file(path, r.html());
+    return r.html();
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    // Write errors are Errors naming the file already; the location names it for the rest.
+    // The ABI's errors are Errors already; the location names the report for the rest.
     throw Error(ErrorCode::io, std::string("report: ") + e.what(), SourceLocation{path, 0, 0});
   }
 }

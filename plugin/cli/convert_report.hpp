@@ -33,10 +33,11 @@ class ConvertReport {
   ConvertReport(const ConvertReport&) = delete;
   ConvertReport& operator=(const ConvertReport&) = delete;
 
-  // After a successful rp_close: writes the report to path atomically and durably
-  // (write_text_file). Throws Error(io) naming the path when it cannot be written.
-  void write(const std::string& path, const rp_session* session,
-             const ConvertReportContext& context) const;
+  // After a successful rp_prepare: the report's HTML. The caller writes it to `path` (which
+  // errors name) before rp_close, so that a report that cannot be written stops the run with
+  // the old program still in place.
+  std::string html(const std::string& path, const rp_session* session,
+                   const ConvertReportContext& context) const;
 
   struct Impl;
 

@@ -1,4 +1,6 @@
 // redpost: the command-line host.
+#include <signal.h>
+
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -10,11 +12,33 @@
 #include "redpost.h"
 #include "redpost/io/error.hpp"
 
+namespace {
+
+// A stop request (kill, Ctrl-C, a closed terminal) removes the temporaries and the program lock
+// before the process ends as the signal says; the default action then runs, so the parent
+// still sees the signal. Only the command installs this: the library leaves signals to its host.
+extern "C" void remove_temporaries_and_stop(int signal_number) {
+  rp_remove_temporaries();
+  std::raise(signal_number);  // SA_RESETHAND: the default action, once this handler returns
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = remove_temporaries_and_stop;
+  action.sa_flags = SA_RESETHAND;
+  sigemptyset(&action.sa_mask);
+  for (const int s : {SIGTERM, SIGINT, SIGHUP})
+    ::sigaction(s, &action, nullptr);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) must fail a write with EFBIG, as a full disk fails it with
   // ENOSPC, so that the error is reported and the temporary files are removed, instead of
   // killing the process. Only the command does this: the library leaves signals to its host.
   std::signal(SIGXFSZ, SIG_IGN);
+  install_stop_handlers();
   CLI::App app{"redpost: postprocessor for redundant robotic milling cells"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("redpost ") + rp_version());

@@ -23,6 +23,7 @@
 #include "place_report.hpp"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/kuka_abc.hpp"
@@ -256,6 +257,12 @@ void write_program(const PlacementProblem& pb, const Placement& placement, const
 }
 
 int run_place(const PlaceArgs& args) {
+  const std::vector<NamedPath> outputs = {{"--json", args.json}, {"--report", args.report}};
+  for (const NamedPath& o : outputs) {
+    if (!o.path.empty())
+      check_output_target(o.path, o.role);
+  }
+  check_distinct_files({{"the placement job", args.job}, {"--krl", args.krl_path}}, outputs);
   PlacementJob job = load_placement_job(args.job);
   if (args.seed >= 0)
     job.optimiser.seed = static_cast<unsigned>(args.seed);

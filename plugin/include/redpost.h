@@ -31,8 +31,8 @@ extern "C" {
 
 #define REDPOST_VERSION_MAJOR 0
 #define REDPOST_VERSION_MINOR 3
-#define REDPOST_VERSION_PATCH 1
-#define REDPOST_VERSION "0.3.1"
+#define REDPOST_VERSION_PATCH 2
+#define REDPOST_VERSION "0.3.2"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -115,7 +115,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.3.1". */
+/* The library's version, e.g. "0.3.2". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -152,8 +152,21 @@ RP_API rp_status rp_comment(rp_session* session, const char* text);
 /* A literal line passed to the program as it is. */
 RP_API rp_status rp_literal(rp_session* session, const char* text);
 
-/* Writes the program and renames the files into place. The session stays allocated, closed. */
+/* Added in 0.3.2. Completes the program and the joints log and flushes them to the disk,
+ * without renaming anything: every check has run and a full disk has shown. The session then
+ * takes no more events, but its queries (rp_summary_get, rp_timing_get, rp_warning, ...) work,
+ * so a host can write its own files (a report) before the program replaces an old one of the
+ * same name. rp_close renames the files; rp_free without rp_close removes them. Optional:
+ * rp_close alone does both steps. */
+RP_API rp_status rp_prepare(rp_session* session);
+/* Writes the program (rp_prepare, if not done) and renames the files into place, as one swap:
+ * if a file cannot be renamed in, an old program of the same name is put back whole. The
+ * session stays allocated, closed. */
 RP_API rp_status rp_close(rp_session* session);
+/* Added in 0.3.2. Removes every temporary file (and program lock file) of this process that
+ * was not yet renamed into place. Async-signal-safe: a host's SIGTERM/SIGINT handler may call
+ * it before the process ends. redpost also runs it at exit(). */
+RP_API void rp_remove_temporaries(void);
 /* Releases the session. A session that was not closed is abandoned: nothing is written. */
 RP_API void rp_free(rp_session* session);
 

@@ -25,6 +25,8 @@
 #include "redpost.h"
 #include "redpost/cl/reader.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
+#include "redpost/io/temporaries.hpp"
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/cell_xml.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
@@ -193,12 +195,25 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
                                                    o.chordal_tolerance_mm)};
     }
 
+    // An output that names an input (or another output) would destroy it: refused before
+    // anything is read or written.
+    const std::string source = o.source_name ? o.source_name : "<events>";
+    const auto program_file = [&](const char* ext) {
+      return (std::filesystem::path(output_dir) / (name + ext)).string();
+    };
+    redpost::check_distinct_files({{"the cell file", cell_path},
+                                   {"the template set", o.krl_path ? o.krl_path : ""},
+                                   {"the tool table", o.tools_path ? o.tools_path : ""},
+                                   {"the CL input", source}},
+                                  {{"the program's .src", program_file(".src")},
+                                   {"the program's .dat", program_file(".dat")},
+                                   {"the joints CSV", o.joints_csv_path ? o.joints_csv_path : ""}});
+
     s = std::make_unique<rp_session>();
     s->cell = redpost::load_cell(cell_path);
     s->templates = redpost::load_krl_templates(template_set_path(o.krl_path));
 
     redpost::PostOptions post;
-    const std::string source = o.source_name ? o.source_name : "<events>";
     post.program.name = name;
     post.program.output_dir = output_dir;
     post.program.base =
@@ -347,32 +362,62 @@ RP_API rp_status rp_literal(rp_session* session, const char* text) {
       [&] { session->post->literal(required(text, "the literal"), session->current_line()); });
 }
 
-RP_API rp_status rp_close(rp_session* session) {
+namespace {
+
+// The end of a session, in one or two steps (rp_prepare, then rp_close). A failure of either
+// fails the session and removes every temporary: nothing is written.
+rp_status end_session(rp_session* session, bool commit) {
   if (!session)
     return null_handle("the session");
   using State = rp_session::State;
+  const State before = session->state;
+  const char* call = commit ? "close" : "prepare";
   const rp_status s = guard(session->error, "", [&] {
     if (session->state == State::closed)
-      throw AbiError{RP_ERR_STATE, "close refused: the session is already closed"};
+      throw AbiError{RP_ERR_STATE, std::string(call) + " refused: the session is already closed"};
     if (session->state == State::failed) {
       session->abandon();  // removes the temporary files: a failed session writes nothing
-      throw AbiError{RP_ERR_STATE,
-                     "close refused: nothing written, the session failed at " + session->failure};
+      throw AbiError{RP_ERR_STATE, std::string(call) +
+                                       " refused: nothing written, the session failed at " +
+                                       session->failure};
     }
-    session->post->finish();
-    session->state = State::closed;
+    if (!commit && session->state == State::prepared)
+      throw AbiError{RP_ERR_STATE, "prepare refused: the session is already prepared"};
+    if (commit) {
+      session->post->finish();
+      session->state = State::closed;
+    } else {
+      session->post->prepare();
+      session->state = State::prepared;
+    }
   });
-  if (s != RP_OK && session->state == State::open) {
-    // finish() failed (no move, a file that cannot be completed): nothing is left behind.
+  if (s != RP_OK && (before == State::open || before == State::prepared) &&
+      session->state != State::closed && session->state != State::failed) {
+    // prepare() or finish() failed (no move, a file that cannot be completed): nothing is
+    // left behind, and an old program of the same name is kept.
     session->state = State::failed;
     try {
-      session->failure = "close: " + session->error;
+      session->failure = std::string(call) + ": " + session->error;
       session->abandon();
     } catch (...) {
       session->post.reset();
     }
   }
   return s;
+}
+
+}  // namespace
+
+RP_API rp_status rp_prepare(rp_session* session) {
+  return end_session(session, false);
+}
+
+RP_API rp_status rp_close(rp_session* session) {
+  return end_session(session, true);
+}
+
+RP_API void rp_remove_temporaries(void) {
+  redpost::remove_all_temporaries();
 }
 
 RP_API void rp_free(rp_session* session) {

@@ -104,7 +104,8 @@ inline Eigen::Vector3d vec(double x, double y, double z) {
 }  // namespace redpost::abi
 
 struct rp_session {
-  enum class State { open, failed, closed };
+  // prepared: rp_prepare completed the files; only queries and rp_close may follow.
+  enum class State { open, prepared, failed, closed };
 
   // The cell and templates outlive the PostSession, which holds references to them.
   redpost::Cell cell;
@@ -152,6 +153,12 @@ struct rp_session {
       }
       if (state == State::closed)
         throw redpost::abi::AbiError{RP_ERR_STATE, "refused because the session is closed"};
+      if (state == State::prepared) {
+        throw redpost::abi::AbiError{
+            RP_ERR_STATE,
+            "refused because the session is prepared (rp_prepare): only rp_close "
+            "or rp_free may follow"};
+      }
       f();
     });
     if (s != RP_OK && state == State::open) {

@@ -10,7 +10,7 @@ others=$(echo "$symbols" | grep -Ev '^(rp_[a-z_]+|Redpost_Init|Redpost_SafeInit)
 if [ -n "$others" ]; then
   echo "unexpected exported symbols:"; echo "$others" | head -20; failed=1
 fi
-for f in rp_open rp_close rp_free rp_last_error rp_session_event rp_reader_open rp_circular_move \
+for f in rp_open rp_prepare rp_close rp_remove_temporaries rp_free rp_last_error rp_session_event rp_reader_open rp_circular_move \
          rp_joint_range rp_set_motion_observer Redpost_Init; do
   echo "$symbols" | grep -qx "$f" || { echo "missing export: $f"; failed=1; }
 done

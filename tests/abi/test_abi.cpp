@@ -321,6 +321,62 @@ TEST_CASE("abi: calls after rp_close are RP_ERR_STATE, the files are in place") 
   rp_free(s);
 }
 
+TEST_CASE("abi: rp_prepare completes the files without renaming; rp_free then leaves nothing") {
+  const std::string dir = fresh_dir("prepare");
+  // An older program of the same name stays until rp_close renames the new one in.
+  { std::ofstream(dir + "/T.src") << "old\n"; }
+  const std::string csv = dir + "/joints.csv";
+  rp_options o = options_for(dir, "T");
+  o.joints_csv_path = csv.c_str();
+  rp_session* s = nullptr;
+  REQUIRE(rp_open(&o, &s) == RP_OK);
+  REQUIRE(rp_rapid(s) == RP_OK);
+  REQUIRE(rp_linear_move(s, -100, -450, 100, 0, 0, 1) == RP_OK);
+  REQUIRE(rp_prepare(s) == RP_OK);
+  rp_summary su;
+  REQUIRE(rp_summary_get(s, &su) == RP_OK);  // queries work between the two steps
+  CHECK(su.motions == 1);
+  CHECK(slurp(dir + "/T.src") == "old\n");
+  CHECK_FALSE(fs::exists(csv));
+  CHECK(rp_linear_move(s, -100, -450, 90, 0, 0, 1) == RP_ERR_STATE);
+  CHECK(contains(rp_last_error(s), "prepared"));
+  CHECK(rp_prepare(s) == RP_ERR_STATE);
+  rp_free(s);  // abandoned after prepare: nothing written, the old program kept
+  CHECK(files_of(dir) == std::map<std::string, std::string>{{"T.src", "old\n"}});
+
+  // Prepare and close give the bytes of close alone.
+  const std::string a = fresh_dir("prepare_a"), b = fresh_dir("prepare_b");
+  for (const std::string& d : {a, b}) {
+    rp_session* t = open_started(d);
+    if (d == a)
+      REQUIRE(rp_prepare(t) == RP_OK);
+    REQUIRE(rp_close(t) == RP_OK);
+    rp_free(t);
+  }
+  CHECK(files_of(a) == files_of(b));
+  CHECK(files_of(a).count("T.src") == 1);
+}
+
+TEST_CASE("abi: a second session writing the same program is refused; outputs may not be inputs") {
+  const std::string dir = fresh_dir("second");
+  rp_session* first = open_started(dir);
+  const rp_options o = options_for(dir, "T");
+  rp_session* second = nullptr;
+  CHECK(rp_open(&o, &second) == RP_ERR_IO);
+  CHECK(second == nullptr);
+  CHECK(contains(rp_last_error(nullptr), "is being written into this folder"));
+  CHECK(rp_close(first) == RP_OK);
+  rp_free(first);
+  REQUIRE(rp_open(&o, &second) == RP_OK);  // the lock went with the first session
+  rp_free(second);
+
+  rp_options clash = options_for(dir, "T");
+  clash.joints_csv_path = kCell.c_str();
+  rp_session* s = nullptr;
+  CHECK(rp_open(&clash, &s) == RP_ERR_IO);
+  CHECK(contains(rp_last_error(nullptr), "the joints CSV names the same file as the cell file"));
+}
+
 TEST_CASE("abi: a session without moves writes nothing at close") {
   const std::string dir = fresh_dir("empty");
   const rp_options o = options_for(dir, "T");

@@ -62,6 +62,10 @@ chmod 000 "$GEN/unreadable.apt"
 printf 'not a directory\n' >"$GEN/a_file"
 # A directory where a file is expected.
 mkdir -p "$GEN/a_dir.apt"
+# Inputs that an output names: copies, so that a regression destroys nothing in the tree.
+cp "$SRC/definitions/cells/andres2011_kr15_track_table.xml" "$GEN/cell_copy.xml"
+cp "$SRC/examples/placement/caro2014_job.xml" "$GEN/job_copy.xml"
+cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/in_copy.apt"
 
 # --- the runner ------------------------------------------------------------------------------
 if [[ $(id -u) -eq 0 ]]; then IS_ROOT=1; else IS_ROOT=0; fi

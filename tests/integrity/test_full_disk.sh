@@ -109,5 +109,25 @@ limited64 "$BIN" convert "$SCRATCH/small.apt" --cell "$CELL" -o "$SCRATCH/elsewh
 rm -rf "$SCRATCH/elsewhere"/*
 expect_clean "ulimit -f 64 KiB: convert, --report" "$LIM" "File too large" "$rc"
 
+# The report is written before the program is renamed into place: a report that does not fit
+# stops the run with an older program of the same name still whole, not replaced.
+rm -rf "${LIM:?}"/* "$SCRATCH/elsewhere"/*
+"$BIN" convert "$SCRATCH/raster.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" --name small -q
+old=$(cd "$SCRATCH/elsewhere" && sha256sum -- *)
+rc=0
+limited64 "$BIN" convert "$SCRATCH/small.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
+  --report "$LIM/report.html" 2>"$SCRATCH/err" || rc=$?
+name="ulimit -f 64 KiB: --report over an old program"
+checks=$((checks + 1))
+if [[ $rc -ne 2 ]]; then
+  fail "exit code $rc, expected 2"
+elif [[ $(cd "$SCRATCH/elsewhere" && sha256sum -- *) != "$old" ]] ||
+  [[ -n $(ls -A "$LIM") ]] || [[ -n $(find "$SCRATCH/elsewhere" -name '.*') ]]; then
+  fail "the old program changed, or files were left: $(ls -A "$SCRATCH/elsewhere" "$LIM")"
+else
+  echo "full-disk: $name: exit 2, the old program whole, nothing left"
+fi
+rm -rf "$SCRATCH/elsewhere"/*
+
 echo "full-disk: $checks checks, $failures failed"
 [[ $failures -eq 0 ]]

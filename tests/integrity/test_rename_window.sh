@@ -34,7 +34,8 @@ convert() {  # convert INPUT OUT MODE
   mkdir -p "$2"
   "$BIN" convert "$1" --cell "$CELL" -o "$2" -q "${split[@]}"
 }
-same() { diff -rq -x '*part~' "$1" "$2" >/dev/null; }
+# Hidden leftovers of a kill (temporaries, the lock file, old files moved aside) are no program.
+same() { diff -rq -x '.*~' "$1" "$2" >/dev/null; }
 
 checked=0
 failed=0
@@ -42,8 +43,11 @@ for mode in single split; do
   convert "$SCRATCH/new/raster.apt" "$SCRATCH/ref_new_$mode" "$mode"
   convert "$SCRATCH/old/raster.apt" "$SCRATCH/ref_old_$mode" "$mode"
   files=$(ls "$SCRATCH/ref_new_$mode" | wc -l)
-  # One kill before each rename, and one past the last (the run completes).
-  for ((n = 1; n <= files + 1; ++n)); do
+  old_files=$(ls "$SCRATCH/ref_old_$mode" | wc -l)
+  # One kill before each rename (over an old program: each old file is first moved aside, then
+  # each new file renamed in), and one past the last (the run completes).
+  renames=$((files + old_files))
+  for ((n = 1; n <= renames + 1; ++n)); do
     for start in empty old; do
       out=$SCRATCH/run_${mode}_${start}_$n
       mkdir -p "$out"
@@ -61,11 +65,11 @@ for mode in single split; do
         failed=$((failed + 1))
       fi
       checked=$((checked + 1))
-      echo "rename-window: $mode, $start folder, killed at rename $n of $files: $outcome"
+      echo "rename-window: $mode, $start folder, killed at rename $n: $outcome"
     done
   done
   # The last run was not killed: it must have completed.
-  same "$SCRATCH/ref_new_$mode" "$SCRATCH/run_${mode}_empty_$((files + 1))" ||
+  same "$SCRATCH/ref_new_$mode" "$SCRATCH/run_${mode}_old_$((renames + 1))" ||
     { echo "rename-window: FAIL: the shim broke an uninterrupted run" >&2; exit 1; }
 done
 echo "rename-window: $checked kills, $failed left a main .src beside a mixed or incomplete set"

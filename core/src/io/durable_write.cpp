@@ -1,6 +1,7 @@
 #include "redpost/io/durable_write.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,8 @@
 #include <filesystem>
 
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
+#include "redpost/io/temporaries.hpp"
 
 namespace redpost {
 namespace fs = std::filesystem;
@@ -25,12 +28,88 @@ std::string folder_of(const std::string& path) {
   return parent.empty() ? std::string(".") : parent.string();
 }
 
-}  // namespace
+// Holds SIGTERM, SIGINT and SIGHUP back in this thread for its lifetime.
+class StopSignalsHeld {
+ public:
+  StopSignalsHeld() {
+    sigset_t stop;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGTERM);
+    sigaddset(&stop, SIGINT);
+    sigaddset(&stop, SIGHUP);
+    ::pthread_sigmask(SIG_BLOCK, &stop, &old_);
+  }
+  ~StopSignalsHeld() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  StopSignalsHeld(const StopSignalsHeld&) = delete;
+  StopSignalsHeld& operator=(const StopSignalsHeld&) = delete;
 
-std::string temporary_path(const std::string& final_path) {
-  const fs::path p(final_path);
-  return (p.parent_path() / ("." + p.filename().string() + ".part~")).string();
-}
+ private:
+  sigset_t old_;
+};
+
+// The swap of replace_files(), with what it has done so far, so that it can be undone.
+struct Swap {
+  const std::vector<Replacement>& files;
+  std::vector<std::string> aside;  // per file: where its old file was moved, empty: none
+  size_t renamed_in = 0;           // files[0, renamed_in) carry their new content
+
+  // Moves the existing final files aside, the last first (the file that makes the set usable
+  // disappears before any of the others changes).
+  void move_old_aside() {
+    aside.assign(files.size(), std::string());
+    for (size_t n = files.size(); n-- > 0;) {
+      const std::string& final_path = files[n].final_path;
+      if (::access(final_path.c_str(), F_OK) != 0 && errno == ENOENT)
+        continue;
+      std::string backup;
+      try {
+        backup = create_unique_beside(final_path, ".old~");
+      } catch (const Error& e) {
+        fail(final_path, e.message());
+      }
+      if (::rename(final_path.c_str(), backup.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(backup.c_str());
+        fail(final_path, "cannot move the existing file aside to replace it: " + errno_text(err) +
+                             " (is it immutable or on a read-only mount?)");
+      }
+      aside[n] = backup;
+    }
+  }
+
+  void rename_new_in() {
+    for (; renamed_in < files.size(); ++renamed_in) {
+      const Replacement& f = files[renamed_in];
+      if (::rename(f.temp.c_str(), f.final_path.c_str()) != 0) {
+        fail(f.final_path, "cannot rename the finished file into place: " + errno_text(errno));
+      }
+      forget_temporary(f.temp);
+    }
+  }
+
+  // Undoes what was done, then throws. The old files go back under their names; the new ones
+  // and every temporary are removed.
+  [[noreturn]] void fail(const std::string& where, const std::string& why) {
+    bool restored = true;
+    for (size_t n = 0; n < files.size(); ++n) {
+      if (n < renamed_in)
+        ::unlink(files[n].final_path.c_str());
+      else
+        remove_temporary(files[n].temp);
+      if (!aside.empty() && !aside[n].empty() &&
+          ::rename(aside[n].c_str(), files[n].final_path.c_str()) != 0) {
+        restored = false;
+      }
+    }
+    throw Error(ErrorCode::io,
+                why + (restored ? "; nothing was replaced: the old files are kept"
+                                : "; the old files could not all be put back: they are in the "
+                                  "hidden '.old~' files of the folder"),
+                SourceLocation{where, 0, 0});
+  }
+};
+
+}  // namespace
 
 void flush_to_disk(std::FILE* file, const std::string& path_for_message) {
   if (std::fflush(file) != 0 || ::fsync(::fileno(file)) != 0) {
@@ -57,24 +136,42 @@ void sync_directory(const std::string& dir_or_empty) {
   }
 }
 
-void write_text_files(const std::vector<TextOutput>& files) {
-  std::vector<std::string> temps;
-  const auto remove_temps = [&temps] {
-    for (const std::string& t : temps)
-      std::remove(t.c_str());
-  };
+void replace_files(const std::vector<Replacement>& files) {
+  try {
+    for (const Replacement& f : files)
+      check_output_target(f.final_path, "the output file");
+  } catch (...) {
+    for (const Replacement& f : files)
+      remove_temporary(f.temp);
+    throw;
+  }
+  {
+    const StopSignalsHeld held;
+    Swap swap{files, {}, 0};
+    swap.move_old_aside();
+    swap.rename_new_in();
+    for (const std::string& old : swap.aside) {
+      if (!old.empty())
+        ::unlink(old.c_str());
+    }
+  }
+  std::vector<std::string> synced;
+  for (const Replacement& f : files) {
+    const std::string dir = folder_of(f.final_path);
+    if (std::find(synced.begin(), synced.end(), dir) == synced.end()) {
+      sync_directory(dir);
+      synced.push_back(dir);
+    }
+  }
+}
+
+PreparedTexts::PreparedTexts(const std::vector<TextOutput>& files) {
   try {
     for (const TextOutput& f : files) {
-      temps.push_back(temporary_path(f.path));
-      std::FILE* fp = std::fopen(temps.back().c_str(), "wb");
-      if (fp == nullptr) {
-        temps.pop_back();
-        throw Error(ErrorCode::io,
-                    "cannot create a file: " + errno_text(errno) +
-                        "; check that the folder exists and is writable",
-                    SourceLocation{f.path, 0, 0});
-      }
-      const bool written = std::fwrite(f.text.data(), 1, f.text.size(), fp) == f.text.size();
+      check_output_target(f.path, "the output file");
+      const Temporary t = create_temporary(f.path);
+      files_.push_back(Replacement{t.path, f.path});
+      const bool written = std::fwrite(f.text.data(), 1, f.text.size(), t.file) == f.text.size();
       const int write_err = errno;
       try {
         if (!written) {
@@ -82,37 +179,36 @@ void write_text_files(const std::vector<TextOutput>& files) {
                       "cannot write: " + errno_text(write_err) + "; check the free space",
                       SourceLocation{f.path, 0, 0});
         }
-        flush_to_disk(fp, f.path);
+        flush_to_disk(t.file, f.path);
       } catch (...) {
-        std::fclose(fp);
+        std::fclose(t.file);
         throw;
       }
-      if (std::fclose(fp) != 0) {
+      if (std::fclose(t.file) != 0) {
         throw Error(ErrorCode::io, "cannot write: " + errno_text(errno),
                     SourceLocation{f.path, 0, 0});
       }
     }
   } catch (...) {
-    remove_temps();
+    for (const Replacement& r : files_)
+      remove_temporary(r.temp);
     throw;
   }
-  for (size_t k = 0; k < files.size(); ++k) {
-    if (std::rename(temps[k].c_str(), files[k].path.c_str()) != 0) {
-      const int err = errno;
-      for (size_t j = k; j < temps.size(); ++j)
-        std::remove(temps[j].c_str());
-      throw Error(ErrorCode::io, "cannot rename the finished file into place: " + errno_text(err),
-                  SourceLocation{files[k].path, 0, 0});
-    }
-  }
-  std::vector<std::string> synced;
-  for (const TextOutput& f : files) {
-    const std::string dir = folder_of(f.path);
-    if (std::find(synced.begin(), synced.end(), dir) == synced.end()) {
-      sync_directory(dir);
-      synced.push_back(dir);
-    }
-  }
+}
+
+PreparedTexts::~PreparedTexts() {
+  for (const Replacement& r : files_)
+    remove_temporary(r.temp);
+}
+
+void PreparedTexts::commit() {
+  std::vector<Replacement> files;
+  files.swap(files_);
+  replace_files(files);
+}
+
+void write_text_files(const std::vector<TextOutput>& files) {
+  PreparedTexts(files).commit();
 }
 
 }  // namespace redpost

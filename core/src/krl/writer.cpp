@@ -18,6 +18,7 @@
 
 #include "krl/writer_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/temporaries.hpp"
 #include "redpost/krl/check.hpp"
 
 namespace redpost {
@@ -193,6 +194,7 @@ KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info
     w.date = utc_date_now();
   }
   check_output_dir(info.output_dir);
+  w.lock = OutputLock(info.output_dir, info.name);
 
   // The first file now: an unwritable directory shows at once, not after the whole path.
   if (info.motions_per_file > 0)
@@ -210,14 +212,14 @@ KrlWriter::~KrlWriter() {
   // A program that was not finished must not look finished: remove what is not renamed.
   for (const Impl::File& f : w.files) {
     if (!f.renamed)
-      std::remove(f.temp.c_str());
+      remove_temporary(f.temp);
   }
 }
 
 void KrlWriter::motion(const KrlMotion& m) {
   Impl& w = *impl_;
-  if (w.finished)
-    throw Error(ErrorCode::internal, "KRL writer: motion() after finish()");
+  if (w.finished || w.prepared)
+    throw Error(ErrorCode::internal, "KRL writer: motion() after prepare() or finish()");
 
   int mask = 0;
   for (int n = 1; n <= 6; ++n)
@@ -432,14 +434,21 @@ void KrlWriter::literal(const std::string& text) {
   w.put(Stmt::literal, v);
 }
 
+void KrlWriter::prepare() {
+  Impl& w = *impl_;
+  if (w.prepared)
+    return;
+  w.close_module();
+  if (!w.parts.empty())
+    w.write_main_program();
+  w.prepared = true;
+}
+
 std::vector<std::string> KrlWriter::finish() {
   Impl& w = *impl_;
   if (w.finished)
     throw Error(ErrorCode::internal, "KRL writer: finish() called twice");
-  w.close_module();
-
-  if (!w.parts.empty())
-    w.write_main_program();
+  prepare();
   w.rename_files();
   w.finished = true;
 

@@ -10,6 +10,8 @@
 #include "krl/writer_impl.hpp"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
+#include "redpost/io/temporaries.hpp"
 
 namespace redpost {
 
@@ -78,13 +80,11 @@ long KrlWriter::Impl::count_bytes(std::string_view text) const {
 size_t KrlWriter::Impl::create(const std::string& file_name, std::FILE*& f) {
   File file;
   file.final_path = (fs::path(info.output_dir) / file_name).string();
-  file.temp = (fs::path(info.output_dir) / ("." + file_name + ".part~")).string();
-  f = std::fopen(file.temp.c_str(), "wb");
-  if (!f) {
-    throw Error(ErrorCode::io, "cannot create a file in the output directory: " + krl::errno_text(),
-                SourceLocation{file.final_path, 0, 0});
-  }
-  std::setvbuf(f, nullptr, _IOFBF, 1 << 16);
+  // A folder, a device or a link under a final name shows now, not after the whole path.
+  check_output_target(file.final_path, "the program file");
+  Temporary temp = create_temporary(file.final_path);
+  file.temp = std::move(temp.path);
+  f = temp.file;
   files.push_back(std::move(file));
   return files.size() - 1;
 }
@@ -251,7 +251,7 @@ void KrlWriter::Impl::promote_first_module() {
   const File old_src = files[out_index];
   const File old_dat = files[out_index - 1];
   files.erase(files.begin() + static_cast<long>(out_index) - 1, files.end());
-  std::remove(old_dat.temp.c_str());
+  remove_temporary(old_dat.temp);
 
   const long first_header = header_bytes;
   const std::string tool_now = current_tool;
@@ -274,7 +274,7 @@ void KrlWriter::Impl::promote_first_module() {
   }
   if (in)
     std::fclose(in);
-  std::remove(old_src.temp.c_str());
+  remove_temporary(old_src.temp);
   if (!ok) {
     throw Error(ErrorCode::io, write_failure_text(),
                 SourceLocation{files[out_index].final_path, 0, 0});
@@ -309,24 +309,18 @@ void KrlWriter::Impl::write_main_program() {
   }
 }
 
-// Only now do the files get their names, the main .src last. An older program of the same
-// name loses its main .src first: a kill between two renames then leaves new parts or a new
+// Only now do the files get their names, as one swap (replace_files): the old program of the
+// same name is moved aside, its main .src first, and put back whole if any file cannot be
+// renamed in; the new main .src comes last. A kill inside the swap leaves new parts or a new
 // .dat without any main .src, never an old main .src that would run beside (or call) new files.
 void KrlWriter::Impl::rename_files() {
-  const std::string& main_src = files.back().final_path;
-  if (std::remove(main_src.c_str()) != 0 && errno != ENOENT) {
-    throw Error(ErrorCode::io, "cannot replace the existing program: " + krl::errno_text(),
-                SourceLocation{main_src, 0, 0});
-  }
-  for (File& f : files) {
-    if (std::rename(f.temp.c_str(), f.final_path.c_str()) != 0) {
-      throw Error(ErrorCode::io,
-                  "cannot rename " + f.temp + " to its final name: " + krl::errno_text(),
-                  SourceLocation{f.final_path, 0, 0});
-    }
-    f.renamed = true;
-  }
-  sync_directory(info.output_dir);
+  std::vector<Replacement> swap;
+  swap.reserve(files.size());
+  for (const File& f : files)
+    swap.push_back(Replacement{f.temp, f.final_path});
+  for (File& f : files)
+    f.renamed = true;  // replace_files() owns the temporaries now, and removes them on failure
+  replace_files(swap);
 }
 
 }  // namespace redpost

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "krl/writer_templates.hpp"
+#include "redpost/io/output_lock.hpp"
 #include "redpost/krl/writer.hpp"
 
 namespace redpost {
@@ -47,6 +48,7 @@ struct KrlWriter::Impl {
     std::string temp, final_path;
     bool renamed = false;
   };
+  OutputLock lock;  // one writer per program name and folder
   std::vector<File> files;
   std::FILE* src_out = nullptr;  // the .src being written
   size_t out_index = 0;          // into files
@@ -75,6 +77,7 @@ struct KrlWriter::Impl {
   // What a part restates so that it runs alone with the right tool, spindle and coolant.
   std::string tool_state, spindle_state, coolant_state;
   bool src_has_frames = false;  // the src skeleton sets $BASE and $TOOL with {frames}
+  bool prepared = false;        // every file complete and flushed, none renamed (prepare())
   bool finished = false;
 
   // Rendering context: the values of a statement's placeholders (the program's and the

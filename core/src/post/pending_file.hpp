@@ -14,23 +14,24 @@
 
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/io/output_target.hpp"
+#include "redpost/io/temporaries.hpp"
 
 namespace redpost {
 
 class PendingFile {
  public:
   PendingFile() = default;
-  explicit PendingFile(std::string path) : path_(std::move(path)), temp_(temporary_path(path_)) {
-    file_ = std::fopen(temp_.c_str(), "wb");
-    if (!file_) {
-      throw Error(ErrorCode::io, std::string("cannot create the file: ") + std::strerror(errno),
-                  SourceLocation{path_, 0, 0});
-    }
+  explicit PendingFile(std::string path) : path_(std::move(path)) {
+    check_output_target(path_, "the joints CSV");
+    Temporary t = create_temporary(path_);
+    temp_ = std::move(t.path);
+    file_ = t.file;
   }
   ~PendingFile() {
     if (file_) {
       std::fclose(file_);
-      std::remove(temp_.c_str());
+      remove_temporary(temp_);
     }
   }
   PendingFile(const PendingFile&) = delete;
@@ -43,29 +44,37 @@ class PendingFile {
                   SourceLocation{path_, 0, 0});
     }
   }
-  void commit() {
-    std::FILE* file = file_;
-    file_ = nullptr;
+  // Written and flushed to the disk, not yet renamed: a full disk shows here.
+  void prepare() {
+    if (prepared_)
+      return;
     try {
-      flush_to_disk(file, path_);
+      flush_to_disk(file_, path_);
     } catch (...) {
-      std::fclose(file);
-      std::remove(temp_.c_str());
+      std::fclose(file_);
+      file_ = nullptr;
+      remove_temporary(temp_);
       throw;
     }
-    const bool closed = std::fclose(file) == 0;
-    if (!closed || std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    prepared_ = true;
+  }
+  void commit() {
+    prepare();
+    std::FILE* file = file_;
+    file_ = nullptr;
+    if (std::fclose(file) != 0) {
       const int err = errno;
-      std::remove(temp_.c_str());
+      remove_temporary(temp_);
       throw Error(ErrorCode::io, std::string("cannot complete the file: ") + std::strerror(err),
                   SourceLocation{path_, 0, 0});
     }
-    sync_directory(std::filesystem::path(path_).parent_path().string());
+    replace_files({Replacement{temp_, path_}});
   }
 
  private:
   std::string path_, temp_;
   std::FILE* file_ = nullptr;
+  bool prepared_ = false;
 };
 
 }  // namespace redpost

@@ -372,14 +372,26 @@ void PostSession::literal(const std::string& text, int cl_line) {
   impl_->timing_stop(0.0);
 }
 
-const PostSummary& PostSession::finish() {
+const PostSummary& PostSession::prepare() {
   Impl& m = *impl_;
+  if (m.prepared)
+    return m.summary;
   pump(true);
   if (!m.started) {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",
                 SourceLocation{m.o.source_name, 0, 0});
   }
   m.finish_timing();
+  if (m.csv)
+    m.csv->prepare();
+  m.writer.prepare();
+  m.prepared = true;
+  return m.summary;
+}
+
+const PostSummary& PostSession::finish() {
+  Impl& m = *impl_;
+  prepare();
   // The joints log first: if the program cannot be completed after it, the log is complete and
   // correct, whereas a program without its log would be the worse half to leave behind.
   if (m.csv) {

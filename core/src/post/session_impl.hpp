@@ -62,6 +62,7 @@ struct PostSession::Impl {
   fmt::memory_buffer line;
 
   bool started = false;
+  bool prepared = false;          // prepare() ran: the files are complete, no event may follow
   bool approach_pending = false;  // after a tool change: the next move is a PTP approach
   bool next_rapid = false;
   double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();

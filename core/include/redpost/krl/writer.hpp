@@ -102,8 +102,13 @@ class KrlWriter {
   void comment(const std::string& text);  // sanitised: no line breaks, ';' prefixed by template
   void literal(const std::string& text);  // verbatim (one line)
 
-  // Completes the program and renames all files (the main .src last); returns the final .src
-  // paths written, the main program first, then the parts in order.
+  // Completes every file of the program (the main program of a split one too) and flushes it
+  // to the disk, without renaming anything yet: a full disk shows here, and the host may write
+  // its own files (a report) before the program replaces an old one. No statement may follow.
+  void prepare();
+  // prepare() if not done, then renames all files as one swap (the main .src last; an old
+  // program is kept whole if the swap fails); returns the final .src paths written, the main
+  // program first, then the parts in order.
   std::vector<std::string> finish();
 
   int motions() const;

@@ -193,7 +193,11 @@ class PostSession {
   // the kinds redpost checks (krl/statement.hpp: assignment, WAIT, HALT, a routine call).
   void literal(const std::string& text, int cl_line = 0);
 
-  // Completes the program (renaming the files into place) and returns the summary.
+  // Completes the program and the joints log, flushed to the disk but not renamed, and returns
+  // the summary (complete but for `files`): every check has run, and a full disk has shown.
+  // The host may now write its own files (a report) before the program replaces an old one.
+  const PostSummary& prepare();
+  // prepare() if not done, then renames the files into place, and returns the summary.
   const PostSummary& finish();
 
   // Replaces PostOptions::on_motion, for hosts that attach an observer after opening.

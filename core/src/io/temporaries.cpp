@@ -1,0 +1,151 @@
+#include "redpost/io/temporaries.hpp"
+
+#include <fcntl.h>
+#include <sys/random.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+
+#include "redpost/io/error.hpp"
+
+namespace redpost {
+namespace fs = std::filesystem;
+
+namespace {
+
+// One slot of the clean-up list. Slots are never freed: a signal handler may walk the list at
+// any moment, so a slot only changes hands through `state`, and its buffer is replaced only
+// while the slot is `writing` (the handler skips those).
+struct Slot {
+  enum : int { free_slot, writing, live };
+  std::atomic<int> state{free_slot};
+  char* path = nullptr;
+  size_t capacity = 0;
+  Slot* next = nullptr;
+};
+
+std::atomic<Slot*> g_slots{nullptr};
+
+void remove_at_exit() {
+  remove_all_temporaries();
+}
+
+Slot* claim_slot() {
+  for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
+    int expected = Slot::free_slot;
+    if (s->state.compare_exchange_strong(expected, Slot::writing))
+      return s;
+  }
+  auto* s = new Slot;
+  s->state.store(Slot::writing);
+  Slot* head = g_slots.load(std::memory_order_relaxed);
+  do {
+    s->next = head;
+  } while (!g_slots.compare_exchange_weak(head, s, std::memory_order_release,
+                                          std::memory_order_relaxed));
+  return s;
+}
+
+// Eight letters from the kernel's random source (a counter mixed with the pid where it has none),
+// enough that a clash, which O_EXCL catches anyway, is rare.
+std::string random_tag() {
+  static constexpr char kLetters[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+  unsigned char bytes[8];
+  if (::getrandom(bytes, sizeof bytes, GRND_NONBLOCK) != static_cast<ssize_t>(sizeof bytes)) {
+    static std::atomic<unsigned> counter{0};
+    const unsigned v = counter.fetch_add(1) * 2654435761u ^ static_cast<unsigned>(::getpid());
+    for (size_t i = 0; i < sizeof bytes; ++i)
+      bytes[i] = static_cast<unsigned char>(v >> (i * 4));
+  }
+  std::string tag(sizeof bytes, 'x');
+  for (size_t i = 0; i < sizeof bytes; ++i)
+    tag[i] = kLetters[bytes[i] % (sizeof kLetters - 1)];
+  return tag;
+}
+
+// Opens a new file beside `final_path`; returns its descriptor and sets `path`.
+int open_unique(const std::string& final_path, const char* suffix, std::string& path) {
+  const fs::path p(final_path);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    path = (p.parent_path() / ("." + p.filename().string() + "." + random_tag() + suffix)).string();
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd >= 0)
+      return fd;
+    if (errno != EEXIST) {
+      throw Error(ErrorCode::io,
+                  std::string("cannot create a file beside it: ") + std::strerror(errno) +
+                      "; check that the folder exists and is writable",
+                  SourceLocation{final_path, 0, 0});
+    }
+  }
+  throw Error(ErrorCode::io, "cannot create a temporary file beside it: 100 names were all taken",
+              SourceLocation{final_path, 0, 0});
+}
+
+}  // namespace
+
+void register_temporary(const std::string& path) {
+  static std::once_flag once;
+  std::call_once(once, [] { std::atexit(remove_at_exit); });
+  Slot* s = claim_slot();
+  if (s->capacity < path.size() + 1) {
+    delete[] s->path;  // the slot is `writing`: no handler reads it
+    s->capacity = path.size() + 1;
+    s->path = new char[s->capacity];
+  }
+  std::memcpy(s->path, path.c_str(), path.size() + 1);
+  s->state.store(Slot::live, std::memory_order_release);
+}
+
+void forget_temporary(const std::string& path) noexcept {
+  for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
+    if (s->state.load(std::memory_order_acquire) == Slot::live && path == s->path) {
+      int expected = Slot::live;
+      if (s->state.compare_exchange_strong(expected, Slot::free_slot))
+        return;
+    }
+  }
+}
+
+void remove_temporary(const std::string& path) noexcept {
+  ::unlink(path.c_str());
+  forget_temporary(path);
+}
+
+void remove_all_temporaries() noexcept {
+  const int saved_errno = errno;
+  for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
+    if (s->state.load(std::memory_order_acquire) == Slot::live)
+      ::unlink(s->path);
+  }
+  errno = saved_errno;
+}
+
+std::string create_unique_beside(const std::string& final_path, const char* suffix) {
+  std::string path;
+  ::close(open_unique(final_path, suffix, path));
+  return path;
+}
+
+Temporary create_temporary(const std::string& final_path) {
+  Temporary t;
+  const int fd = open_unique(final_path, ".part~", t.path);
+  register_temporary(t.path);
+  t.file = ::fdopen(fd, "wb");
+  if (!t.file) {
+    const int err = errno;
+    ::close(fd);
+    remove_temporary(t.path);
+    throw Error(ErrorCode::io, std::string("cannot open the temporary file: ") + std::strerror(err),
+                SourceLocation{final_path, 0, 0});
+  }
+  std::setvbuf(t.file, nullptr, _IOFBF, 1 << 16);
+  return t;
+}
+
+}  // namespace redpost
