@@ -152,8 +152,14 @@ CalibrationPlanOptions plan_options(const PlanArgs& args, const Cell& cell) {
                 fmt::format("calibrate: the cell has {} external joints; give their "
                             "configurations with --configs",
                             opt.external_joints.size()));
-  if (args.grid < 2)
-    throw Error(ErrorCode::bad_input, fmt::format("--grid: {} is below 2", args.grid));
+  // 3 planes x grid^2 points per configuration, each a measurement of a few seconds on the
+  // cell: 50 x 50 is already hours of measuring, and a larger grid is a typo.
+  constexpr int kMaxGrid = 50;
+  if (args.grid < 2 || args.grid > kMaxGrid) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("--grid: {} is outside 2 to {} (a grid x grid mesh per plane)",
+                            args.grid, kMaxGrid));
+  }
   opt.grid = args.grid;
   opt.stand_off_mm = args.stand_off_mm;
   if (!(args.half_width_mm > 0.0) || !(args.z_min_mm < args.z_max_mm))

@@ -46,6 +46,37 @@ std::string joint_list(const Cell& cell, bool axes) {
   return s;
 }
 
+// A joint vector is a few hundred bytes: a longer line is not one (or stdin is not a text of
+// joint vectors, such as /dev/zero), and is refused before it fills the memory.
+constexpr size_t kMaxLineBytes = 64 * 1024;
+
+// std::getline with a bound: false at the end of the input, and throws at a line longer than
+// kMaxLineBytes.
+bool read_line(std::istream& in, std::string& line, int line_no) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof())
+      return !line.empty();
+    if (c == '\n')
+      return true;
+    if (line.size() == kMaxLineBytes) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("a line longer than {} bytes: fk reads one joint vector per line "
+                              "(is stdin the right input?)",
+                              kMaxLineBytes),
+                  SourceLocation{"<stdin>", line_no, 0});
+    }
+    line += static_cast<char>(c);
+  }
+}
+
+// A token for a message: at most 40 characters of it.
+std::string shown(const std::string& token) {
+  return token.size() <= 40 ? token : token.substr(0, 40) + "...";
+}
+
 // Splits a line on commas and white space; '#' starts a comment.
 bool parse_values(const std::string& line, std::vector<double>& out, std::string& error) {
   out.clear();
@@ -66,11 +97,11 @@ bool parse_values(const std::string& line, std::vector<double>& out, std::string
     double v = 0.0;
     auto [ptr, ec] = std::from_chars(first, token.data() + token.size(), v);
     if (ec != std::errc() || ptr != token.data() + token.size()) {
-      error = "'" + token + "' is not a number";
+      error = "'" + shown(token) + "' is not a number";
       return false;
     }
     if (!std::isfinite(v)) {
-      error = "'" + token + "' is not a finite number";
+      error = "'" + shown(token) + "' is not a finite number";
       return false;
     }
     out.push_back(v);
@@ -89,8 +120,7 @@ int run_fk(const FkOptions& opt) {
   std::string line, error;
   int line_no = 0;
   std::string out;
-  while (std::getline(std::cin, line)) {
-    ++line_no;
+  while (read_line(std::cin, line, ++line_no)) {
     if (!parse_values(line, values, error)) {
       throw Error(ErrorCode::bad_input, error, SourceLocation{"<stdin>", line_no, 0});
     }

@@ -190,9 +190,9 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     const std::string cell_path = required(o.cell_path, "options.cell_path");
     const std::string output_dir = required(o.output_dir, "options.output_dir");
     const std::string name = required(o.program_name, "options.program_name");
-    if (!std::isfinite(o.chordal_tolerance_mm) || !(o.chordal_tolerance_mm > 0.0)) {
-      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the chordal tolerance must be > 0 mm, got {}",
-                                                   o.chordal_tolerance_mm)};
+    if (const std::string why = redpost::chordal_tolerance_problem(o.chordal_tolerance_mm);
+        !why.empty()) {
+      throw AbiError{RP_ERR_BAD_INPUT, why};
     }
 
     // An output that names an input (or another output) would destroy it: refused before

@@ -49,9 +49,9 @@ RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* op
     rp_reader_options o;
     rp_reader_options_init(&o);
     std::memcpy(&o, options, options->struct_size);
-    if (!std::isfinite(o.chordal_tolerance_mm) || !(o.chordal_tolerance_mm > 0.0)) {
-      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("the chordal tolerance must be > 0 mm, got {}",
-                                                   o.chordal_tolerance_mm)};
+    if (const std::string why = redpost::chordal_tolerance_problem(o.chordal_tolerance_mm);
+        !why.empty()) {
+      throw AbiError{RP_ERR_BAD_INPUT, why};
     }
     if (o.msys != RP_MSYS_IGNORE && o.msys != RP_MSYS_APPLY)
       throw AbiError{RP_ERR_BAD_INPUT, "msys is not RP_MSYS_IGNORE or RP_MSYS_APPLY"};

@@ -62,6 +62,8 @@ chmod 000 "$GEN/unreadable.apt"
 printf 'not a directory\n' >"$GEN/a_file"
 # A directory where a file is expected.
 mkdir -p "$GEN/a_dir.apt"
+# A 50 kB token on one line of joint values: refused without echoing it whole.
+{ printf '0 0 '; repeat 9 50000; printf '\n'; } >"$GEN/fk_long_token.txt"
 # Inputs that an output names: copies, so that a regression destroys nothing in the tree.
 cp "$SRC/definitions/cells/andres2011_kr15_track_table.xml" "$GEN/cell_copy.xml"
 cp "$SRC/examples/placement/caro2014_job.xml" "$GEN/job_copy.xml"
@@ -139,8 +141,16 @@ while IFS= read -r raw || [[ -n "$raw" ]]; do
     w=${w//@KRL@/$SRC/definitions/krl/krc4_lin.xml}
     argv+=("$w")
   done
+  # stdin=PATH: what the command reads on its standard input (else /dev/null).
+  input=/dev/null
+  for o in $options; do
+    if [[ $o == stdin=* ]]; then
+      input=${o#stdin=}
+      input=${input//@GEN@/$GEN}
+    fi
+  done
   rc=0
-  (cd "$dir" && measure "$dir/rss" timeout 120 "$BIN" "${argv[@]}" </dev/null >"$dir/stdout" \
+  (cd "$dir" && measure "$dir/rss" timeout 120 "$BIN" "${argv[@]}" <"$input" >"$dir/stdout" \
     2>"$dir/err") || rc=$?
   if [[ "$rc" -ne "$want_rc" ]]; then
     fail "exit code $rc, expected $want_rc"

@@ -206,6 +206,23 @@ for sig in TERM INT HUP; do
   fi
 done
 
+# A FIFO with no writer as the CL input: the run waits for it before any output file exists.
+# SIGKILL, so that no handler can tidy up: the folder is empty only if nothing was made.
+OUT=$SCRATCH/fifo
+mkdir -p "$OUT"
+mkfifo "$SCRATCH/in.fifo"
+rc=0
+timeout -s KILL 2 "$BIN" convert "$SCRATCH/in.fifo" --cell "$CELL" -o "$OUT" -q 2>/dev/null ||
+  rc=$?
+checks=$((checks + 1))
+if [[ $rc -ne 137 ]]; then
+  fail "a FIFO without a writer: exit $rc, expected 137 (still waiting when timeout killed it)"
+elif [[ -n $(ls -A "$OUT") ]]; then
+  fail "a FIFO without a writer: files made while waiting: $(ls -A "$OUT" | tr '\n' ' ')"
+else
+  ok "a FIFO without a writer: waits with nothing in the output folder"
+fi
+
 OUT=$SCRATCH/tcl_exit
 mkdir -p "$OUT"
 cat >"$SCRATCH/exit.tcl" <<TCL

@@ -23,6 +23,8 @@
 
 #include <Eigen/Core>
 
+#include "redpost/cl/reader.hpp"
+
 namespace redpost::detail {
 
 // Number of chords for an arc of `sweep_rad` and radius `radius_mm` within `tolerance_mm`;
@@ -34,9 +36,6 @@ inline double arc_chord_count(double sweep_rad, double radius_mm, double toleran
     max_angle = std::min(max_angle, 4.0 * std::asin(std::sqrt(tolerance_mm / (2.0 * radius_mm))));
   return std::max(1.0, std::ceil(sweep_rad / max_angle));
 }
-
-// More chords than this is a tolerance typo.
-inline constexpr double kMaxArcChords = 1e8;
 
 struct ArcChords {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -90,6 +89,11 @@ inline std::string arc_format_mm(double v) {
   return std::string(buf, r.ptr);
 }
 
+// A count of chords: whole below 1e15, else in exponent form.
+inline std::string arc_format_count(double n) {
+  return n < 1e15 ? std::to_string(static_cast<long long>(n)) : arc_format_mm(n);
+}
+
 // The chords of the arc from `start` to `end` about the unit `axis` through `centre`, turning by
 // the right-hand rule. `radius_mm` > 0 is checked against the start's distance from the axis
 // (0: none given). Both ends must lie on one circle within `point_tolerance_mm`; an end back at
@@ -137,9 +141,12 @@ inline ArcBuild make_arc_chords(const Eigen::Vector3d& start, const Eigen::Vecto
       sweep += kTwoPi;
   }
   const double chords = arc_chord_count(sweep, std::max(r0, r1), chordal_tolerance_mm);
-  if (chords > kMaxArcChords) {
+  if (chords > static_cast<double>(kMaxCurveChords)) {
     b.problem = ArcProblem::too_many_chords;
-    b.message = "this arc needs more than 1e8 chords: raise the chordal tolerance";
+    b.message = "this arc needs " + arc_format_count(chords) + " chords, more than the " +
+                arc_format_count(static_cast<double>(kMaxCurveChords)) +
+                " a curve may have, at a chordal tolerance of " +
+                arc_format_mm(chordal_tolerance_mm) + " mm: raise --chordal-tol";
     return b;
   }
   ArcChords& arc = b.arc;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "cl/reader_impl.hpp"
 
 namespace redpost {
@@ -16,7 +18,9 @@ constexpr double kMaxDwellSeconds = 600.0;
 
 namespace {
 
-constexpr double kMaxPecks = 1e8;  // more pecks than this is a SUBPECK typo
+// More pecks in one hole than a drill would ever make (a 100 mm hole in 10 um pecks): a typo in
+// the peck depths, which would otherwise write millions of motions per hole.
+constexpr double kMaxPecks = 10'000;
 
 }  // namespace
 
@@ -176,8 +180,14 @@ void ClReader::Impl::start_hole(const Vector3d& p) {
   if (cycle.deep && cycle.depth_mm > cycle.first_peck_mm) {
     const double more =
         std::ceil((cycle.depth_mm - cycle.first_peck_mm) / cycle.next_peck_mm - 1e-9);
-    if (more + 1.0 > kMaxPecks)
-      fail_line(cycle.line, "this pecking cycle needs more than 1e8 pecks: check SUBPECK");
+    if (more + 1.0 > kMaxPecks) {
+      fail_line(cycle.line,
+                fmt::format("this pecking cycle needs {:.0f} pecks per hole, more than the {:.0f} "
+                            "redpost writes: check the peck depths of the CYCLE record "
+                            "(1STPECK {:.6g} mm, SUBPECK {:.6g} mm, depth {:.6g} mm)",
+                            std::min(more + 1.0, 1e15), kMaxPecks, cycle.first_peck_mm,
+                            cycle.next_peck_mm, cycle.depth_mm));
+    }
     hole_pecks = 1 + static_cast<long>(more);
   }
   hole_peck = 0;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "cl/nurbs_curve.hpp"
 #include "cl/reader_impl.hpp"
 
@@ -142,6 +144,7 @@ void ClReader::Impl::finish_nurbs() {
   gen_rapid = take_rapid();
   gen_line = nurbs_line;
   curve_chords.start(curve, opt.chordal_tolerance_mm);
+  curve_chord_count = 0;
   generator = Generator::nurbs;
   pos = curve.cartesian(curve.points.size() - 1);
 }
@@ -182,6 +185,13 @@ void ClReader::Impl::run_nurbs() {
     if (!curve_chords.next(p)) {
       generator = Generator::none;
       return;
+    }
+    // The chords come one at a time, so the bound is checked as they come: a curve that needs
+    // more fails at its line before the program grows by gigabytes.
+    if (++curve_chord_count > kMaxCurveChords) {
+      fail_line(gen_line, fmt::format("this NURBS needs more than the {} chords a curve may have, "
+                                      "at a chordal tolerance of {:.6g} mm: raise --chordal-tol",
+                                      kMaxCurveChords, opt.chordal_tolerance_mm));
     }
     push_move(p, gen_axis, MoveOrigin::nurbs, gen_rapid, gen_line);
   }

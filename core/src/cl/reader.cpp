@@ -23,17 +23,28 @@
 #include <string_view>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "cl/reader_impl.hpp"
 #include "redpost/io/error.hpp"
 
 namespace redpost {
 
+std::string chordal_tolerance_problem(double tolerance_mm) {
+  if (std::isfinite(tolerance_mm) && tolerance_mm >= kMinChordalToleranceMm)
+    return {};
+  return fmt::format(
+      "the chordal tolerance (--chordal-tol) must be a number of mm of at least "
+      "{} (0.1 um), got {:.6g}",
+      kMinChordalToleranceMm, tolerance_mm);
+}
+
 ClReader::Impl::Impl(std::istream& in, std::string source_name, ClReaderOptions options)
     : ClRecordReader(in, std::move(source_name), options.max_line_bytes, options.keep_comments),
       opt(options),
       nx(options.dialect == ClDialect::nx_clsf) {
-  if (!(opt.chordal_tolerance_mm > 0.0) || !std::isfinite(opt.chordal_tolerance_mm))
-    throw Error(ErrorCode::bad_input, "chordal tolerance must be a positive number of mm");
+  if (const std::string why = chordal_tolerance_problem(opt.chordal_tolerance_mm); !why.empty())
+    throw Error(ErrorCode::bad_input, why);
   if (!(opt.point_match_tolerance_mm > 0.0) || !std::isfinite(opt.point_match_tolerance_mm))
     throw Error(ErrorCode::bad_input, "point match tolerance must be a positive number of mm");
   queue.reserve(kBatch + 8);

@@ -204,6 +204,7 @@ struct ClReader::Impl : detail::ClRecordReader {
   Vector3d arc_end_axis = Vector3d::UnitZ();
   detail::NurbsCurve curve;
   detail::NurbsChords curve_chords;
+  long curve_chord_count = 0;  // chords given out for the current NURBS (kMaxCurveChords)
   DrillCycle cycle;
   HolePhase hole_phase = HolePhase::done;
   Vector3d hole_point = Vector3d::Zero();

@@ -188,15 +188,8 @@ std::string normal(const std::string& path) {
 
 // The .dat beside a .src (same stem, extension in any case), or "".
 std::string dat_of(const fs::path& src) {
-  std::error_code ec;
-  const std::string stem = upper(src.stem().string());
-  const fs::path dir = src.has_parent_path() ? src.parent_path() : fs::path(".");
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const fs::path& p = it->path();
-    if (upper(p.extension().string()) == ".DAT" && upper(p.stem().string()) == stem)
-      return p.string();
-  }
-  return "";
+  return krl::find_file_nocase(src.has_parent_path() ? src.parent_path() : fs::path("."),
+                               src.stem().string(), "dat");
 }
 
 // A program larger than a controller loads is still read, so that check says so (a finding)

@@ -1,8 +1,11 @@
 // The KRL reader's lines and modules: splitting lines and comments, and the index of a module
 // (its DEFs, and the points declared in it and in the .dat beside it).
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <unordered_map>
 
 #include "io/text_util.hpp"
 #include "krl/reader_parse.hpp"
@@ -115,17 +118,49 @@ bool is_motion_keyword(const std::string& w) {
 
 // --- modules ---------------------------------------------------------------------------------
 
+namespace {
+
+// The file names of a folder in upper case, listed once and again only when the folder changes
+// (its modification time or inode): a folder of 20 000 programs is listed once, not once per
+// lookup, which made `redpost check` on it quadratic. One folder per thread is kept: the
+// lookups of one program or one check are in one folder.
+struct FolderNames {
+  std::string dir;
+  struct stat st {};
+  std::unordered_map<std::string, std::string> by_upper_name;  // upper-case name -> path
+};
+
+const std::unordered_map<std::string, std::string>& folder_names(const fs::path& dir) {
+  thread_local FolderNames cache;
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0) {
+    cache = FolderNames{};
+    return cache.by_upper_name;
+  }
+  if (cache.dir == dir.string() && cache.st.st_ino == st.st_ino && cache.st.st_dev == st.st_dev &&
+      cache.st.st_mtim.tv_sec == st.st_mtim.tv_sec &&
+      cache.st.st_mtim.tv_nsec == st.st_mtim.tv_nsec) {
+    return cache.by_upper_name;
+  }
+  cache = FolderNames{dir.string(), st, {}};
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    cache.by_upper_name.emplace(upper(it->path().filename().string()), it->path().string());
+  return cache.by_upper_name;
+}
+
+}  // namespace
+
 // Finds `stem.ext` in `dir` regardless of case; "" if absent.
 std::string find_file_nocase(const fs::path& dir, const std::string& stem, const std::string& ext) {
-  const std::string want = upper(stem + "." + ext);
   std::error_code ec;
   fs::path exact = dir / (stem + "." + ext);
   if (fs::is_regular_file(exact, ec))
     return exact.string();
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (upper(it->path().filename().string()) == want && it->is_regular_file(ec))
-      return it->path().string();
-  }
+  const auto& names = folder_names(dir);
+  const auto it = names.find(upper(stem + "." + ext));
+  if (it != names.end() && fs::is_regular_file(it->second, ec))
+    return it->second;
   return "";
 }
 

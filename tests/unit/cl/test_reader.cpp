@@ -851,6 +851,70 @@ TEST_CASE("cl_reader: NURBS data that do not fit are refused") {
   check_error(start + "GOTO/1,1,1\n", 2, 0, "needs KNOT/ and CNTRL/");
 }
 
+TEST_CASE(
+    "cl_reader: a NURBS beyond the chord bound, or a tolerance below the finest, is refused") {
+  // A cubic zigzag 1e5 mm high, control points 9e4 mm apart: some 2e4 chords per span at the
+  // finest tolerance, 2e6 in all. The reader stops at the bound, reading one event at a time.
+  std::string text = "GOTO/0,0,0\nNURBS/\nKNOT/";
+  const int spans = 100;
+  for (int k = 1; k <= spans; ++k)
+    text += (k > 1 ? "," : "") + num(static_cast<double>(k) / spans);
+  text += "\n";
+  for (int i = 1; i <= spans + 2; ++i)
+    text += "CNTRL/" + num(9e4 * i) + "," + (i % 2 ? "100000" : "0") + ",0\n";
+  ClReaderOptions opt;
+  opt.chordal_tolerance_mm = kMinChordalToleranceMm;
+  std::istringstream in(text);
+  ClReader reader(in, "t.apt", opt);
+  ClEvent e;
+  long moves = 0;
+  try {
+    while (reader.next(e))
+      moves += e.kind == ClEventKind::move ? 1 : 0;
+    FAIL("no error after " << moves << " moves");
+  } catch (const Error& err) {
+    CHECK(err.where().line == 2);  // the NURBS/ record
+    CHECK(err.message().find("more than the 1000000 chords a curve may have") != std::string::npos);
+    CHECK(err.message().find("raise --chordal-tol") != std::string::npos);
+  }
+  CHECK(moves <= kMaxCurveChords + 1);
+  // At 1 mm the same curve needs some 2e4 chords, and is read.
+  opt.chordal_tolerance_mm = 1.0;
+  CHECK_NOTHROW(read_all(text, opt));
+
+  // Below the finest tolerance: refused before reading (an arc of the largest coordinates
+  // needs 7e5 chords at the finest one, so its own bound is a backstop).
+  ClReaderOptions tiny;
+  tiny.chordal_tolerance_mm = 1e-300;
+  std::istringstream empty("GOTO/0,0,0\n");
+  try {
+    ClReader r(empty, "t.apt", tiny);
+    FAIL("no error");
+  } catch (const Error& err) {
+    CHECK(err.message().find("must be a number of mm of at least 0.0001") != std::string::npos);
+    CHECK(err.message().find("--chordal-tol") != std::string::npos);
+  }
+}
+
+TEST_CASE("cl_reader: a pecking cycle beyond 10 000 pecks per hole is refused at its line") {
+  check_error(
+      "GOTO/8.,15.,25.\n"
+      "CYCLE/DEEP2,FEDTO,10,1STPECK,1e-6,SUBPECK,1e-6,MMPM,100,RAPTO,3.,RTRCTO,25.\n"
+      "GOTO/8.,15.,0\n",
+      2, 0, "needs 10000000 pecks per hole, more than the 10000 redpost writes");
+  // 10 000 exactly is written.
+  const auto moves = moves_of(
+      "GOTO/8.,15.,25.\n"
+      "CYCLE/DEEP2,FEDTO,10,1STPECK,0.001,SUBPECK,0.001,MMPM,100,RAPTO,3.,"
+      "RTRCTO,25.\n"
+      "GOTO/8.,15.,0\n"
+      "CYCLE/OFF\n");
+  long cuts = 0;
+  for (size_t i = 1; i < moves.size(); ++i)  // after the GOTO before the cycle
+    cuts += moves[i].rapid ? 0 : 1;
+  CHECK(cuts == 10000);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Drilling cycles
 

@@ -31,6 +31,16 @@ enum class MsysMode {
   apply,   // points and vectors are turned into NX's absolute frame: p_abs = origin + R p_mcs
 };
 
+// The finest chordal tolerance accepted: 0.1 um, far below what an arm repeats to (some 20 um),
+// and the most chords one arc or NURBS may become. Beyond them a typo in the tolerance would
+// write gigabytes of KRL, or run for ever.
+inline constexpr double kMinChordalToleranceMm = 1e-4;
+inline constexpr long kMaxCurveChords = 1'000'000;
+
+// "" when `tolerance_mm` is a finite number of at least kMinChordalToleranceMm, else what is
+// wrong, naming --chordal-tol.
+std::string chordal_tolerance_problem(double tolerance_mm);
+
 struct ClReaderOptions {
   double chordal_tolerance_mm = 0.01;  // arcs and NURBS are split so that no chord strays further
   std::size_t max_line_bytes = 1u << 20;  // a longer physical line is refused with a message
