@@ -78,6 +78,9 @@ void parse_lock(const std::string& text, rp_options& o) {
 
 // A KRL identifier from a file name: letters, digits and '_', a letter first, short enough to
 // take the _P001 suffix of a split program.
+// The name made from the input file's: 19 characters leave room for the part suffix.
+constexpr size_t kDerivedNameLength = 19;
+
 std::string program_name_from(const std::string& path) {
   std::string stem = std::filesystem::path(path).stem().string(), out;
   for (char c : stem) {
@@ -86,9 +89,25 @@ std::string program_name_from(const std::string& path) {
   }
   if (out.empty() || !std::isalpha(static_cast<unsigned char>(out[0])))
     out = "P" + out;
-  if (out.size() > 19)
-    out.resize(19);
+  if (out.size() > kDerivedNameLength) {
+    fmt::print(stderr,
+               "warning: the program name '{}' is the input file's name cut to {} characters "
+               "(a KRL name has at most 24, and 5 stay free for the parts _P001, ... of a split "
+               "program); give --name to choose it\n",
+               out.substr(0, kDerivedNameLength), kDerivedNameLength);
+    out.resize(kDerivedNameLength);
+  }
   return out;
+}
+
+// A program name the library refuses, said with where it came from: --name, or the input.
+std::string program_name_message(const ConvertOptions& opt, const std::string& message) {
+  if (message.rfind("program name '", 0) != 0)
+    return message;
+  if (!opt.name.empty())
+    return "--name: " + message + "; choose another";
+  return message + " (it was made from the input file's name, " +
+         std::filesystem::path(opt.input).filename().string() + "); give another with --name";
 }
 
 // "x,y,z,a,b,c" -> six numbers (mm, deg).
@@ -323,7 +342,7 @@ int run_convert(const ConvertOptions& opt) {
     return report(st, rp_last_error(nullptr));
   }
   if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
-    return report(st, rp_last_error(nullptr));
+    return report(st, program_name_message(opt, rp_last_error(nullptr)));
   // The observer is attached only for --report: without it the session makes no samples.
   std::unique_ptr<ConvertReport> html;
   if (!opt.report_html.empty())
@@ -428,9 +447,11 @@ Runner add_convert_command(CLI::App& app) {
                 "Largest .src in bytes: a larger program is split into parts (default: the "
                 "template set's <limits>, else 4 MiB)");
   c->add_option("--apo", opt->apo_mm, "Blending distance $APO.CDIS in mm (default 0.5)");
-  c->add_option("--split", opt->split, "Motions per file; 0 keeps one file (default 0)");
+  c->add_option("--split", opt->split, "Motions per file; 0 keeps one file (default 0)")
+      ->check(non_negative_number());
   c->add_option("--cl-line-every", opt->cl_line_every,
-                "A comment with the CL line every N motions (default 50, 0: never)");
+                "A comment with the CL line every N motions (default 50, 0: never)")
+      ->check(non_negative_number());
   c->add_option("--chordal-tol", opt->chordal_tolerance_mm,
                 "Chordal tolerance for arcs and NURBS in mm (default 0.01)");
   c->add_option("--plan", opt->plan,

@@ -250,9 +250,17 @@ void add_summary(rep::HtmlReport& r, const rp_summary& summary,
   r.add_summary("conversion time", fmt::format("{:.2f} s", context.seconds));
   r.add_summary("lowest 1/kappa_F", fmt::format("{:.3f} (CL line {})", summary.lowest_inv_condition,
                                                 summary.lowest_inv_condition_line));
-  const std::size_t warning_count =
-      static_cast<std::size_t>(summary.warnings) + context.reader_warnings.size();
-  r.add_summary("warnings", fmt::format("{}", warning_count));
+  r.add_summary("warnings", "");  // counted once every section is made (count_warnings)
+}
+
+// The warnings row: those of the run (all of them, also those past the page's screenful) and
+// those the report's own checks add (joints near their limits, speeds not checked, ...), so
+// that the count in the header is the count on the page.
+void count_warnings(rep::HtmlReport& r, std::size_t run_total, std::size_t run_shown) {
+  const std::size_t checks = static_cast<std::size_t>(r.warning_count()) - run_shown;
+  r.set_summary("warnings", checks == 0 ? fmt::format("{}", run_total)
+                                        : fmt::format("{}: {} of the run, {} of the checks below",
+                                                      run_total + checks, run_total, checks));
 }
 
 // The range of every joint and its margins to the limits, with a warning for each joint that
@@ -297,9 +305,9 @@ std::vector<Limits> add_joint_ranges_section(rep::HtmlReport& r, const ConvertRe
   return limits;
 }
 
-// The reader's and the session's warnings.
-void add_run_warnings(rep::HtmlReport& r, const rp_session* session,
-                      const ConvertReportContext& context) {
+// The reader's and the session's warnings; returns how many there are and how many are shown.
+std::pair<std::size_t, std::size_t> add_run_warnings(rep::HtmlReport& r, const rp_session* session,
+                                                     const ConvertReportContext& context) {
   // Every warning up to a screenful; the rest are counted (the terminal printed them all).
   constexpr std::size_t kMaxWarnings = 50;
   std::size_t shown = 0;
@@ -313,6 +321,7 @@ void add_run_warnings(rep::HtmlReport& r, const rp_session* session,
     warn(w);
   if (shown > kMaxWarnings)
     r.add_paragraph(fmt::format("... and {} more warnings.", shown - kMaxWarnings));
+  return {shown, std::min(shown, kMaxWarnings)};
 }
 
 // How the plots against the motion index are reduced, when they are.
@@ -588,7 +597,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     rep::HtmlReport r("redpost convert: " + context.program);
     add_summary(r, summary, context);
     const std::vector<Limits> limits = add_joint_ranges_section(r, d, session);
-    add_run_warnings(r, session, context);
+    const auto [run_total, run_shown] = add_run_warnings(r, session, context);
     add_decimation_note(r, d);
     add_joints_section(r, d, limits);
     add_speed_section(r, d, session);
@@ -597,6 +606,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     add_plan_section(r, d);
     add_solver_and_feed_section(r, d);
     add_toolpath_section(r, d);
+    count_warnings(r, run_total, run_shown);
     return r.html();
   } catch (const Error&) {
     throw;

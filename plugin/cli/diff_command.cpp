@@ -38,13 +38,13 @@ Runner add_diff_command(CLI::App& app) {
   cmd->add_option("B", opt->b, "Second program (.src) or directory")->required();
   cmd->add_option("--pos-tol", opt->diff.pos_tol_mm, "Position tolerance (mm)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--ang-tol", opt->diff.ang_tol_deg, "Orientation tolerance (deg)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--axis-tol", opt->diff.axis_tol, "Axis tolerance, A1..A6 and E1..E6 (deg or mm)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   cmd->add_option("--max-shown", opt->diff.max_shown, "Differences listed")->capture_default_str();
   cmd->add_flag("--json", opt->json, "Machine-readable report");
   return [opt] { return run_diff(*opt); };

@@ -50,6 +50,22 @@ int main(int argc, char** argv) {
   const redpost::cli::Runner calibrate = redpost::cli::add_calibrate_command(app);
   const redpost::cli::Runner place = redpost::cli::add_place_command(app);
 
+  // A first word that is no option and no subcommand: CLI11 would say "A subcommand is
+  // required", as if none had been given.
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      fmt::print(stderr,
+                 "redpost: unknown subcommand '{}'; the subcommands are {} (redpost --help)\n",
+                 argv[1], names);
+      return redpost::cli::kExitBadInput;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

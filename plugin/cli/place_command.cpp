@@ -264,6 +264,11 @@ int run_place(const PlaceArgs& args) {
   }
   check_distinct_files({{"the placement job", args.job}, {"--krl", args.krl_path}}, outputs);
   PlacementJob job = load_placement_job(args.job);
+  // The program is written after the optimisation: a name it cannot take is refused now.
+  if (const std::string why = krl_program_name_problem(job.program.name); !why.empty()) {
+    throw Error(ErrorCode::bad_input, "<program> name '" + job.program.name + "' " + why,
+                SourceLocation{args.job, job.program.name_line, 0});
+  }
   if (args.seed >= 0)
     job.optimiser.seed = static_cast<unsigned>(args.seed);
   const KrlTemplateSet templates =
@@ -340,7 +345,7 @@ Runner add_place_command(CLI::App& app) {
                 "Write the placement, the four cases and the convergence "
                 "history as JSON to this file");
   c->add_option("--seed", args->seed, "Optimiser seed (overrides the job's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   c->add_option("--krl", args->krl_path, "KRL template set (XML); default krc4_lin");
   c->add_option("--report", args->report,
                 "Write an HTML report: the c_i maps with the spin plans, the optimiser's "

@@ -241,9 +241,17 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
       post.tools = redpost::load_tool_table(o.tools_path);
     if (o.has_placement) {
       const double* p = o.placement;
+      // x, y, z within the CL reader's coordinate bound; A, B, C within a turn either way. A
+      // value beyond them is a typo, and gave the IK a pose it could not even start from.
+      static constexpr const char* kNames[6] = {"x", "y", "z", "A", "B", "C"};
       for (int i = 0; i < 6; ++i) {
-        if (!std::isfinite(p[i]))
-          throw AbiError{RP_ERR_BAD_INPUT, "the placement has a value that is not a number"};
+        const double bound = i < 3 ? 1e7 : 360.0;
+        if (!std::isfinite(p[i]) || std::fabs(p[i]) > bound) {
+          throw AbiError{RP_ERR_BAD_INPUT,
+                         fmt::format("the placement's {} is {:.6g}: it must be a number of {} "
+                                     "from -{:g} to {:g} (--placement x,y,z,a,b,c)",
+                                     kNames[i], p[i], i < 3 ? "mm" : "degrees", bound, bound)};
+        }
       }
       post.T_B_part =
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});

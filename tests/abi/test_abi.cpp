@@ -377,6 +377,18 @@ TEST_CASE("abi: a second session writing the same program is refused; outputs ma
   CHECK(contains(rp_last_error(nullptr), "the joints CSV names the same file as the cell file"));
 }
 
+TEST_CASE("abi: a literal with a CR is refused at its line, the CR shown escaped") {
+  const std::string dir = fresh_dir("literal_cr");
+  rp_session* s = open_started(dir);
+  REQUIRE(rp_set_line(s, 42) == RP_OK);
+  CHECK(rp_literal(s, "$OUT[1] = TRUE\rHALT") == RP_ERR_BAD_INPUT);
+  const std::string m = rp_last_error(s);
+  CHECK(m.find(":42: '$OUT[1] = TRUE\\x0DHALT' cannot be passed") != std::string::npos);
+  CHECK(m.find('\r') == std::string::npos);  // nothing that moves a terminal's cursor
+  rp_free(s);
+  CHECK(fs::is_empty(dir));
+}
+
 TEST_CASE("abi: a session without moves writes nothing at close") {
   const std::string dir = fresh_dir("empty");
   const rp_options o = options_for(dir, "T");

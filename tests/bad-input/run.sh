@@ -64,6 +64,12 @@ printf 'not a directory\n' >"$GEN/a_file"
 mkdir -p "$GEN/a_dir.apt"
 # A 50 kB token on one line of joint values: refused without echoing it whole.
 { printf '0 0 '; repeat 9 50000; printf '\n'; } >"$GEN/fk_long_token.txt"
+# A CL file whose lines end in CR alone, and one named like a KRL keyword.
+tr '\n' '\r' <"$SRC/examples/cl/pocket_arcs.apt" >"$GEN/cr_only.apt"
+cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/end.apt"
+# A placement job whose program is named like a KRL keyword (refused before the optimisation).
+sed -e "s|../../definitions|$SRC/definitions|" -e 's|name="CARO2014_PLACEMENT"|name="end"|' \
+  "$SRC/examples/placement/caro2014_job.xml" >"$GEN/job_name_end.xml"
 # Inputs that an output names: copies, so that a regression destroys nothing in the tree.
 cp "$SRC/definitions/cells/andres2011_kr15_track_table.xml" "$GEN/cell_copy.xml"
 cp "$SRC/examples/placement/caro2014_job.xml" "$GEN/job_copy.xml"

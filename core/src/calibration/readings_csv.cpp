@@ -262,6 +262,9 @@ std::vector<CalibrationPoint> parse_readings_csv(const std::string& text,
     ++line_no;
     if (!raw.empty() && raw.back() == '\r')
       raw.pop_back();
+    // A UTF-8 byte order mark (Excel writes one to a CSV) is not part of the first line.
+    if (line_no == 1 && raw.compare(0, 3, "\xEF\xBB\xBF") == 0)
+      raw.erase(0, 3);
     const std::string line = trim(raw);
     if (line.empty() || line[0] == '#')
       continue;

@@ -37,7 +37,7 @@ class ClLineSource {
       const std::size_t take =
           nl ? static_cast<std::size_t>(static_cast<const char*>(nl) - start) : available;
       if (line.size() + take > max_line_bytes_ + 1)  // +1: a "\r" that will be dropped
-        too_long();
+        too_long(line);
       line.append(start, take);
       begin_ += take;
       if (nl) {
@@ -50,7 +50,12 @@ class ClLineSource {
     if (!line.empty() && line.back() == '\r')
       line.pop_back();
     if (line.size() > max_line_bytes_)
-      too_long();
+      too_long(line);
+    // A UTF-8 byte order mark (Windows editors write one) is not part of the first record.
+    if (line_number_ == 0 && line.compare(0, 3, "\xEF\xBB\xBF") == 0)
+      line.erase(0, 3);
+    if (const std::size_t cr = line.find('\r'); cr != std::string::npos)
+      stray_cr(static_cast<int>(cr) + 1);
     ++line_number_;
     return true;
   }
@@ -81,7 +86,19 @@ class ClLineSource {
     return true;
   }
 
-  [[noreturn]] void too_long() const {
+  // A CR inside a line: the file's lines end in CR alone (classic Mac OS), which would make the
+  // whole file one record, or a stray CR sits in a record.
+  [[noreturn]] void stray_cr(int column) const {
+    throw Error(ErrorCode::bad_input,
+                "a carriage return (CR, 0x0D) inside the line: the file's lines end in CR alone "
+                "(classic Mac OS line endings), or a record holds a stray CR; convert the line "
+                "endings to LF or CR LF (for example: tr '\\r' '\\n' < in.apt > out.apt)",
+                SourceLocation{source_, line_number_ + 1, column});
+  }
+
+  [[noreturn]] void too_long(const std::string& line_so_far) const {
+    if (const std::size_t cr = line_so_far.find('\r'); cr != std::string::npos)
+      stray_cr(static_cast<int>(cr) + 1);
     throw Error(ErrorCode::bad_input,
                 "line longer than " + std::to_string(max_line_bytes_) +
                     " bytes (is this a CL text file? raise ClReaderOptions::max_line_bytes "

@@ -203,6 +203,10 @@ KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info
     w.open_module(info.name);
 }
 
+std::string krl_program_name_problem(std::string_view name) {
+  return krl::identifier_problem(name);
+}
+
 KrlWriter::~KrlWriter() {
   if (!impl_)
     return;

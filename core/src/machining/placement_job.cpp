@@ -383,8 +383,10 @@ void read_optimiser(const JobReader& r, const XMLElement* root, PlacementJob& jo
 void read_program(const JobReader& r, const XMLElement* root, PlacementJob& job) {
   if (const XMLElement* p = r.child(root, "program", false)) {
     r.only_attributes(p, {"name", "retract"});
-    if (p->Attribute("name"))
+    if (p->Attribute("name")) {
       job.program.name = p->Attribute("name");
+      job.program.name_line = p->GetLineNum();
+    }
     job.program.retract_mm = r.length_mm(p, "retract", job.program.retract_mm);
     if (job.program.retract_mm < 0.0)
       r.fail(p, "<program> retract must not be negative");

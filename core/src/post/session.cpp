@@ -358,7 +358,16 @@ void PostSession::literal(const std::string& text, int cl_line) {
   // Code passed through (INSERT/KRL:, rp_literal, the NX insert event) must be a statement a
   // controller accepts and redpost check reads: refused with its line otherwise.
   if (const std::string why = krl::statement_problem(text); !why.empty()) {
-    throw Error(ErrorCode::bad_input, "'" + text + "' cannot be passed to the KRL program: " + why,
+    // Control bytes are shown escaped: a CR printed as it is would take the terminal's cursor
+    // back over the message's file:line.
+    std::string shown;
+    for (char c : text.substr(0, 200)) {
+      const auto u = static_cast<unsigned char>(c);
+      shown += (u < 0x20 || u == 0x7f) ? fmt::format("\\x{:02X}", u) : std::string(1, c);
+    }
+    if (text.size() > 200)
+      shown += "...";
+    throw Error(ErrorCode::bad_input, "'" + shown + "' cannot be passed to the KRL program: " + why,
                 SourceLocation{impl_->o.source_name, cl_line, 0});
   }
   ClEvent e;

@@ -88,6 +88,16 @@ void HtmlReport::add_summary(std::string key, std::string value) {
   summary_.emplace_back(std::move(key), std::move(value));
 }
 
+void HtmlReport::set_summary(const std::string& key, std::string value) {
+  for (auto& row : summary_) {
+    if (row.first == key) {
+      row.second = std::move(value);
+      return;
+    }
+  }
+  add_summary(key, std::move(value));
+}
+
 void HtmlReport::add_section(std::string heading) {
   if (in_section_)
     body_ += "</section>\n";
@@ -100,6 +110,7 @@ void HtmlReport::add_paragraph(std::string text) {
 }
 
 void HtmlReport::add_warning(std::string text) {
+  ++warnings_;
   body_ += fmt::format("<p class=\"warn\">{}</p>\n", esc(text));
 }
 

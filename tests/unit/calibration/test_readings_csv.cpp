@@ -74,6 +74,21 @@ TEST_CASE("calibration csv: the joints form round-trips exactly") {
   }
 }
 
+TEST_CASE("calibration csv: a UTF-8 byte order mark before the header is not part of it") {
+  const auto& pts = simulated_plan();
+  ReadingsWriteOptions w;
+  w.form = ReadingsForm::joints;
+  const std::string text = format_readings_csv(andres(), pts, w);
+  const auto plain = parse_readings_csv(text, "joints.csv", andres());
+  const auto bom = parse_readings_csv("\xEF\xBB\xBF" + text, "joints.csv", andres());
+  REQUIRE(bom.size() == plain.size());
+  for (size_t i = 0; i < bom.size(); ++i)
+    CHECK(bom[i].q == plain[i].q);
+  // Only at the start of the file: elsewhere the bytes are data, and refused as such.
+  CHECK_THROWS_AS(parse_readings_csv(text + "\xEF\xBB\xBF" + "1,2\n", "joints.csv", andres()),
+                  Error);
+}
+
 TEST_CASE("calibration csv: the commanded-pose form round-trips through the nominal model") {
   const auto& pts = simulated_plan();
   const std::string text = format_readings_csv(andres(), pts);

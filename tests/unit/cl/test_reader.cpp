@@ -896,6 +896,17 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("cl_reader: a byte order mark is skipped, and a CR inside a line is refused at it") {
+  const auto plain = moves_of("GOTO/1,2,3\nGOTO/4,5,6\n");
+  const auto bom = moves_of("\xEF\xBB\xBFGOTO/1,2,3\r\nGOTO/4,5,6\r\n");
+  REQUIRE(bom.size() == plain.size());
+  for (size_t i = 0; i < bom.size(); ++i)
+    CHECK(bom[i].p_mm == plain[i].p_mm);
+  // CR-only line endings (the whole file would be one line), and a stray CR in a record.
+  check_error("GOTO/1,2,3\rGOTO/4,5,6\r", 1, 11, "the file's lines end in CR alone");
+  check_error("GOTO/1,2,3\nINSERT/A\rB\n", 2, 9, "a record holds a stray CR");
+}
+
 TEST_CASE("cl_reader: a pecking cycle beyond 10 000 pecks per hole is refused at its line") {
   check_error(
       "GOTO/8.,15.,25.\n"

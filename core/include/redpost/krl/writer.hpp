@@ -18,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "redpost/kinematics/controller_axes.hpp"
@@ -74,6 +75,11 @@ struct KrlMotion {
   StatusTurn status_turn;  // for Cartesian PTP
   int cl_line = 0;         // the CL record it came from (0: none)
 };
+
+// "" when `name` can name a KRL program (a letter, then letters, digits and '_', at most 24
+// characters, no keyword), else what is wrong ("is a KRL keyword"): for a host that checks a
+// name before long work that ends in writing the program.
+std::string krl_program_name_problem(std::string_view name);
 
 class KrlWriter {
  public:

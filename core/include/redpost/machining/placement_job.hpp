@@ -59,6 +59,7 @@ struct OptimiserSettings {
 
 struct ProgramSettings {
   std::string name = "PLACEMENT";  // KRL program name
+  int name_line = 0;               // the job file's line that gives it (0: the default)
   double retract_mm = 50.0;        // lift along z_W between segments
 };
 

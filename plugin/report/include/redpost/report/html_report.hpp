@@ -41,6 +41,9 @@ class HtmlReport {
 
   // A key/value row of the summary table right under the title (input file, cell, counts).
   void add_summary(std::string key, std::string value);
+  // Replaces the value of the summary row `key` (added if there is none): for a count known
+  // only once the sections are made.
+  void set_summary(const std::string& key, std::string value);
   // Starts a new section with an <h2> heading; what follows belongs to it.
   void add_section(std::string heading);
   void add_paragraph(std::string text);
@@ -58,6 +61,7 @@ class HtmlReport {
   void add_svg(std::string svg);
 
   int plot_count() const { return plots_; }
+  int warning_count() const { return warnings_; }
 
   // The whole document. The host writes it (the CLI through redpost::write_text_file: a
   // temporary, fsync and a rename, so a reader never sees half a report); the report library
@@ -72,6 +76,7 @@ class HtmlReport {
   std::string body_;
   bool in_section_ = false;
   int plots_ = 0;
+  int warnings_ = 0;
 };
 
 }  // namespace redpost::report
