@@ -18,6 +18,7 @@
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/krl/diff.hpp"
+#include "redpost/krl/statement.hpp"
 
 namespace redpost {
 
@@ -162,6 +163,74 @@ struct Block {
   int first_statement = 0;
 };
 
+// An assignment whose value is an expression the pass-through grammar (statement.hpp) does not
+// have: an aggregate (`$BASE = {FRAME: X 0, ...}`), a function call (`$BASE = EK(...)`), an
+// arithmetic or logical expression. The variable is checked as statement.hpp reads it; the
+// value by its shape: brackets nested and closed, only the characters of KRL expressions.
+bool expression_assignment(const std::string& code) {
+  size_t eq = code.find('=');
+  while (eq != std::string::npos && eq + 1 < code.size() && code[eq + 1] == '=')
+    eq = code.find('=', eq + 2);
+  if (eq == std::string::npos || eq == 0 ||
+      std::string("<>=").find(code[eq - 1]) != std::string::npos)
+    return false;
+  const std::string value = trim(code.substr(eq + 1));
+  if (value.empty() || std::string("+-*/=<>,:").find(value.back()) != std::string::npos ||
+      !krl::statement_problem(code.substr(0, eq) + "= 0").empty())
+    return false;
+  std::string open;
+  for (char c : value) {
+    const bool word =
+        std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '$' || c == '#' || c == '.';
+    if (c == '(' || c == '[' || c == '{') {
+      open += c;
+    } else if (c == ')' || c == ']' || c == '}') {
+      const char want = c == ')' ? '(' : c == ']' ? '[' : '{';
+      if (open.empty() || open.back() != want)
+        return false;
+      open.pop_back();
+    } else if (!word && std::string(" \t,:+-*/=<>\"'").find(c) == std::string::npos) {
+      return false;
+    }
+  }
+  return open.empty();
+}
+
+// Is the line a statement of KRL's flow, interrupts, splines or module declarations? Checked
+// by their shape: the keyword, and the word that must follow it where there is one.
+std::string flow_statement_problem(const std::vector<std::string>& w) {
+  const auto has = [&](const char* word) { return std::find(w.begin(), w.end(), word) != w.end(); };
+  static const std::set<std::string> alone = {
+      "ELSE",   "ENDIF",     "ENDFOR",     "ENDWHILE", "LOOP",   "ENDLOOP",
+      "REPEAT", "DEFAULT",   "ENDSWITCH",  "EXIT",     "RETURN", "CONTINUE",
+      "SPLINE", "ENDSPLINE", "PTP_SPLINE", "BRAKE",    "RESUME"};
+  const std::string& k = w[0];
+  if (alone.count(k))
+    return {};
+  if (k == "IF")
+    return has("THEN") ? "" : "IF without THEN";
+  if (k == "FOR")
+    return has("TO") ? "" : "FOR without TO";
+  if (k == "WHILE" || k == "UNTIL" || k == "SWITCH" || k == "CASE" || k == "GOTO")
+    return w.size() > 1 ? "" : k + " without its condition or value";
+  if (k == "TRIGGER")
+    return has("WHEN") && has("DO") ? "" : "TRIGGER needs WHEN ... DO ...";
+  if (k == "INTERRUPT" || (k == "GLOBAL" && w.size() > 1 && w[1] == "INTERRUPT")) {
+    const size_t i = k == "GLOBAL" ? 2 : 1;
+    if (i < w.size() && (w[i] == "ON" || w[i] == "OFF" || w[i] == "ENABLE" || w[i] == "DISABLE"))
+      return {};
+    return i < w.size() && w[i] == "DECL" && has("WHEN") && has("DO")
+               ? ""
+               : "INTERRUPT needs ON, OFF, ENABLE, DISABLE or DECL ... WHEN ... DO ...";
+  }
+  static const std::set<std::string> module_decls = {"EXT",   "EXTFCT", "IMPORT", "ENUM",
+                                                     "STRUC", "SIGNAL", "CONST"};
+  const size_t d = k == "GLOBAL" && w.size() > 1 ? 1 : 0;
+  if (module_decls.count(w[d]))
+    return {};
+  return "none";
+}
+
 std::string closing_of(const std::string& kind) {
   return kind == "DEFFCT" ? "ENDFCT" : kind == "DEFDAT" ? "ENDDAT" : "END";
 }
@@ -229,8 +298,36 @@ struct TextCheck {
     if (declaration_order(line_no, code, w))
       return;
     vel_cp(line_no, code);
-    if (motion_keywords().count(w[0]))
+    if (motion_keywords().count(w[0])) {
       motion_targets(line_no, code, w[0]);
+      return;
+    }
+    statement(line_no, code, w);
+  }
+
+  // Every other line must be a statement a KRC accepts, of the kinds redpost reads: an
+  // assignment (of an aggregate too), a routine call, WAIT, HALT, or KRL's flow, interrupt,
+  // spline and module keywords. A line check cannot read is a finding, so that free text in a
+  // program (or a line cut by a transfer) does not pass unseen.
+  void statement(int line_no, const std::string& code, const std::vector<std::string>& w) {
+    // A jump label, "NAME:" alone.
+    const std::string t = trim(code);
+    if (t.size() > 1 && t.back() == ':' && w.size() == 1 && upper(t) == w[0] + ":")
+      return;
+    const std::string flow = flow_statement_problem(w);
+    if (flow.empty())
+      return;
+    if (flow != "none") {
+      find(line_no, flow);
+      return;
+    }
+    if (expression_assignment(code))
+      return;
+    const std::string why = krl::statement_problem(code);
+    if (why.empty())
+      return;
+    const std::string shown = t.size() > 60 ? t.substr(0, 60) + "..." : t;
+    find(line_no, "not a KRL statement that redpost check reads: '" + shown + "' (" + why + ")");
   }
 
   // FOLD/ENDFOLD pairs.
@@ -413,6 +510,19 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
     c.find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", text.size(),
                           options.max_bytes));
 
+  // Lines that end in CR alone (classic Mac OS): the whole file would read as one line, and
+  // every check after this would report a consequence ("no END") instead of the cause.
+  for (size_t cr = text.find('\r'); cr != std::string::npos; cr = text.find('\r', cr + 1)) {
+    if (cr + 1 < text.size() && text[cr + 1] != '\n') {
+      const int line = 1 + static_cast<int>(std::count(text.begin(),
+                                                       text.begin() + static_cast<long>(cr), '\n'));
+      c.find(line,
+             "a carriage return (CR) inside the line: the file's lines end in CR alone "
+             "(classic Mac OS line endings), or a line holds a stray CR; a KRC reads "
+             "CR LF: convert the line endings");
+      return c.out;
+    }
+  }
   c.declared.insert(dat_declared.begin(), dat_declared.end());
   for (const std::string& n : krl_declared_names(text))
     c.declared.insert(n);
@@ -452,6 +562,7 @@ std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
     const Cell& cell = *options.cell;
     const char* const names[12] = {"A1", "A2", "A3", "A4", "A5", "A6",
                                    "E1", "E2", "E3", "E4", "E5", "E6"};
+    std::set<std::string> unmapped_reported;
     for (const KrlMotionRecord& m : program.motions) {
       if (m.relative)
         continue;
@@ -461,10 +572,12 @@ std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
           continue;
         const AxisKind kind = a < 6 ? AxisKind::arm : AxisKind::external;
         const int number = a < 6 ? a + 1 : a - 5;
+        bool mapped = false;
         for (int j = 0; j < cell.size(); ++j) {
           const Joint& joint = cell.joint(j);
           if (joint.axis.kind != kind || joint.axis.number != number)
             continue;
+          mapped = true;
           const double q = from_axis_value(joint, it->second);
           const double slack = 1e-9 * std::max(1.0, std::abs(joint.upper - joint.lower));
           if (q < joint.lower - slack || q > joint.upper + slack) {
@@ -475,6 +588,16 @@ std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
                            fmt::format("{} {:g} is outside the limits [{:g}, {:g}] of joint '{}'",
                                        names[a], it->second, lo, hi, joint.name)});
           }
+        }
+        // A value for an axis the cell does not have: 0 is what posts write for axes that are
+        // not there; anything else moves an axis the cell does not model (a program for
+        // another cell?). Once per axis and file.
+        if (!mapped && it->second != 0.0 &&
+            unmapped_reported.insert(m.file + "#" + names[a]).second) {
+          out.push_back({m.file, m.line,
+                         fmt::format("{} is {:g}, but the cell '{}' maps no joint to {}: is the "
+                                     "program for this cell?",
+                                     names[a], it->second, cell.name, names[a])});
         }
       }
     }
@@ -490,11 +613,29 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
   if (!directory && !fs::exists(path, ec))
     throw Error(ErrorCode::io, "no such file or directory", SourceLocation{path, 0, 0});
   if (directory) {
-    for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
-      if (it->is_regular_file() && upper(it->path().extension().string()) == ".SRC")
-        srcs.push_back(it->path().string());
-    std::sort(srcs.begin(), srcs.end());
-    mains = krl_main_programs(path);
+    // The folder and every folder under it (links not followed): a cell's programs are often
+    // kept one folder per part. Each folder's main programs are found among its own files.
+    std::vector<std::string> folders{path};
+    for (fs::recursive_directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_directory() && !it->is_symlink())
+        folders.push_back(it->path().string());
+    std::sort(folders.begin() + 1, folders.end());
+    for (const std::string& folder : folders) {
+      const size_t first = srcs.size();
+      for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+        if (it->is_regular_file() && upper(it->path().extension().string()) == ".SRC")
+          srcs.push_back(it->path().string());
+      if (srcs.size() == first)
+        continue;
+      std::sort(srcs.begin() + static_cast<long>(first), srcs.end());
+      for (std::string& m : krl_main_programs(folder))
+        mains.push_back(std::move(m));
+    }
+    if (srcs.empty()) {
+      throw Error(ErrorCode::bad_input,
+                  "no KRL program (.src) in this folder or the folders under it: nothing to check",
+                  SourceLocation{path, 0, 0});
+    }
   } else {
     mains.push_back(path);
   }

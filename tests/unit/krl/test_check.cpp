@@ -1,5 +1,6 @@
 // redpost check as a library: each finding at its line, clean programs clean.
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <algorithm>
@@ -87,6 +88,77 @@ TEST_CASE("check: each text finding at its line") {
   CHECK(f.size() == 9);
 }
 
+TEST_CASE("check: every statement is read, and a line that is none is a finding at its line") {
+  const std::string text =
+      "DEF PROG( )\n"                                                              // 1
+      "EXT BAS (BAS_COMMAND :IN,REAL :IN )\n"                                      // 2
+      "INTERRUPT OFF 3\n"                                                          // 3
+      "BAS (#VEL_PTP,20)\n"                                                        // 4
+      "$BASE = EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, BASE_DATA[1])\n"  // 5
+      "$BASE = {FRAME: X 0.000,Y 0.000,Z 0.000,A 0.000,B 0.000,C 0.000}\n"         // 6
+      "$OUT[1] = ($IN[2] AND NOT $IN[3])\n"                                        // 7
+      "IF $IN[1] == TRUE THEN\n"                                                   // 8
+      "  WAIT SEC 0.5\n"                                                           // 9
+      "ELSE\n"                                                                     // 10
+      "  HALT\n"                                                                   // 11
+      "ENDIF\n"                                                                    // 12
+      "FOR I = 1 TO 3\n"                                                           // 13
+      "ENDFOR\n"                                                                   // 14
+      "SPLINE\n"                                                                   // 15
+      "ENDSPLINE\n"                                                                // 16
+      "this is not KRL at all !!\n"                                                // 17
+      "X = 1 +\n"                                                                  // 18
+      "IF $IN[1]\n"                                                                // 19
+      "INTERRUPT 3\n"                                                              // 20
+      "$VEL.CP = {\n"                                                              // 21
+      "CALL_IT(1, 2\n"                                                             // 22
+      "END\n";                                                                     // 23
+  const auto f = check_krl_text("PROG.src", text, {}, KrlCheckOptions{});
+  for (const KrlFinding& x : f)
+    UNSCOPED_INFO(x.line << ": " << x.message);
+  CHECK(lines_with(f, "not a KRL statement that redpost check reads") ==
+        std::vector<int>{17, 18, 21, 22});
+  CHECK(lines_with(f, "IF without THEN") == std::vector<int>{19});
+  CHECK(lines_with(f, "INTERRUPT needs") == std::vector<int>{20});
+  CHECK(f.size() == 6);
+}
+
+TEST_CASE("check: CR-only line endings are named, not reported as a missing END") {
+  const auto f = check_krl_text("MAC.src", "DEF MAC( )\rPTP HOME\rEND\r", {}, KrlCheckOptions{});
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].line == 1);
+  CHECK(f[0].message.find("the file's lines end in CR alone") != std::string::npos);
+  // CR LF is a KRC's own line ending: clean.
+  CHECK(check_krl_text("DOS.src", "DEF DOS( )\r\nPTP HOME\r\nEND\r\n", {}, {}).empty());
+}
+
+TEST_CASE("check: a folder is checked with its subfolders, and one with no program is an error") {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "redpost_check_tree";
+  fs::remove_all(root);
+  fs::create_directories(root / "part_a");
+  fs::create_directories(root / "empty" / "deeper");
+  const auto write = [](const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::binary) << text;
+  };
+  write(root / "TOP.src", "DEF TOP( )\nWAIT SEC 1\nEND\n");
+  write(root / "part_a" / "A.src", "DEF A( )\nnot a statement\nEND\n");
+  const auto f = check_krl(root.string(), KrlCheckOptions{});
+  for (const KrlFinding& x : f)
+    UNSCOPED_INFO(x.file << ":" << x.line << ": " << x.message);
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].file == (root / "part_a" / "A.src").lexically_normal().string());
+  CHECK(f[0].line == 2);
+  try {
+    check_krl((root / "empty").string(), KrlCheckOptions{});
+    FAIL("no error for a folder without programs");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::bad_input);
+    CHECK(e.message().find("no KRL program (.src)") != std::string::npos);
+  }
+  fs::remove_all(root);
+}
+
 TEST_CASE("check: ENDFOLD without FOLD, file size") {
   KrlCheckOptions o;
   o.max_bytes = 10;
@@ -135,6 +207,18 @@ TEST_CASE("check: S/T on the first Cartesian PTP, cell limits") {
   REQUIRE(f.size() == 1);
   CHECK(f[0].line == 5);
   CHECK(f[0].message.find("A2") == 0);
+
+  // An axis the cell does not have (the Andres cell maps E1 and E2): 0 is what posts write for
+  // absent axes; any other value is reported, once per axis and file.
+  p.motions[0].target.values["A2"] = (lo + hi) / 2;
+  p.motions[0].target.values["E3"] = 0.0;
+  CHECK(check_krl_motions(p, o).empty());
+  p.motions[0].target.values["E3"] = 250.0;
+  p.motions[1].target.values["E3"] = 260.0;
+  f = check_krl_motions(p, o);
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].line == 5);
+  CHECK(f[0].message.find("E3 is 250, but the cell") == 0);
 }
 
 TEST_CASE("check: golden programs are clean (through the reader)") {
