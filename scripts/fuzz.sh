@@ -19,7 +19,7 @@ seconds=${1:-60}
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-fuzz
 out=${FUZZ_OUT:-$build/out}
-targets=${FUZZ_TARGETS:-"cl_reader cell_xml krl_template krl_reader calibration_csv convert"}
+targets=${FUZZ_TARGETS:-"cl_reader cell_xml krl_template krl_reader calibration_csv convert abi_calls"}
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ not found (apt-get install clang libclang-rt-dev)" >&2

@@ -33,7 +33,8 @@ Runner add_diff_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "diff",
       "Compare two KRL programs (.src, or directories of them) motion by motion: position, "
-      "orientation, axes, S/T and keyword. Exit 0 equal within tolerance, 1 different, 2 error.");
+      "orientation, axes, S/T, keyword, $VEL.CP, $APO.CDIS, PTP velocity, $TOOL and $BASE, and "
+      "the paths as curves. Exit 0 equal within tolerance, 1 different, 2 error.");
   cmd->add_option("A", opt->a, "First program (.src) or directory")->required();
   cmd->add_option("B", opt->b, "Second program (.src) or directory")->required();
   cmd->add_option("--pos-tol", opt->diff.pos_tol_mm, "Position tolerance (mm)")
@@ -45,6 +46,17 @@ Runner add_diff_command(CLI::App& app) {
   cmd->add_option("--axis-tol", opt->diff.axis_tol, "Axis tolerance, A1..A6 and E1..E6 (deg or mm)")
       ->capture_default_str()
       ->check(non_negative_number());
+  cmd->add_option("--vel-tol", opt->diff.vel_tol_m_per_s, "$VEL.CP tolerance (m/s)")
+      ->capture_default_str()
+      ->check(non_negative_number());
+  cmd->add_option("--path-tol", opt->diff.path_tol_mm,
+                  "Paths as curves: largest distance from a point of one program to the other's "
+                  "path (mm)")
+      ->capture_default_str()
+      ->check(non_negative_number());
+  cmd->add_flag("--as-curves", opt->diff.as_curves,
+                "Compare Cartesian positions and orientations as curves (within --path-tol and "
+                "--ang-tol), not point by point: the same path with other points is equal");
   cmd->add_option("--max-shown", opt->diff.max_shown, "Differences listed")->capture_default_str();
   cmd->add_flag("--json", opt->json, "Machine-readable report");
   return [opt] { return run_diff(*opt); };

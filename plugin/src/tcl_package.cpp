@@ -19,12 +19,17 @@
 #include <vector>
 
 #include "redpost.h"
+#include "tcl_args.hpp"
 
 #ifndef TCL_SIZE_MAX
 typedef int Tcl_Size;  // Tcl 8.6
 #endif
 
 namespace {
+
+using redpost::tcl::get_double;
+using redpost::tcl::get_int;
+using redpost::tcl::get_text;
 
 constexpr const char* kAssocKey = "redpost::state";
 
@@ -76,33 +81,6 @@ int fail(Tcl_Interp* interp, rp_status status, const char* message) {
 
 int usage(Tcl_Interp* interp, Tcl_Obj* const objv[], const char* args) {
   Tcl_WrongNumArgs(interp, 1, objv, args);
-  return TCL_ERROR;
-}
-
-// A double, or NaN/Inf spelled out, so that the plugin (not Tcl) judges the value and reports it
-// with the event and line.
-int get_double(Tcl_Interp* interp, Tcl_Obj* obj, const char* what, double* out) {
-  if (Tcl_GetDoubleFromObj(nullptr, obj, out) == TCL_OK)
-    return TCL_OK;
-  const char* s = Tcl_GetString(obj);
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(s, &end);
-  if (end != s && *end == '\0' && !std::isfinite(v)) {
-    *out = v;
-    return TCL_OK;
-  }
-  Tcl_SetObjResult(interp, Tcl_ObjPrintf("expected a number for %s but got \"%s\"", what, s));
-  Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
-  return TCL_ERROR;
-}
-
-int get_int(Tcl_Interp* interp, Tcl_Obj* obj, const char* what, int* out) {
-  if (Tcl_GetIntFromObj(nullptr, obj, out) == TCL_OK)
-    return TCL_OK;
-  Tcl_SetObjResult(
-      interp, Tcl_ObjPrintf("expected an integer for %s but got \"%s\"", what, Tcl_GetString(obj)));
-  Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
   return TCL_ERROR;
 }
 
@@ -386,11 +364,13 @@ int cmd_tool_change(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const 
   SESSION_ARGS(4, "number name diameter length")
   int number = 0;
   double d = 0, l = 0;
+  const char* name = nullptr;
   if (get_int(interp, objv[2], "number", &number) != TCL_OK ||
+      get_text(interp, objv[3], "tool name", &name) != TCL_OK ||
       get_double(interp, objv[4], "diameter", &d) != TCL_OK ||
       get_double(interp, objv[5], "length", &l) != TCL_OK)
     return TCL_ERROR;
-  return session_result(interp, s, rp_tool_change(s, number, Tcl_GetString(objv[3]), d, l));
+  return session_result(interp, s, rp_tool_change(s, number, name, d, l));
 }
 
 int cmd_spindle(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
@@ -450,7 +430,10 @@ int cmd_circular_move(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* cons
 
 int cmd_operation_start(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   SESSION_ARGS(1, "name")
-  return session_result(interp, s, rp_operation_start(s, Tcl_GetString(objv[2])));
+  const char* text = nullptr;
+  if (get_text(interp, objv[2], "operation name", &text) != TCL_OK)
+    return TCL_ERROR;
+  return session_result(interp, s, rp_operation_start(s, text));
 }
 
 int cmd_operation_end(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
@@ -463,17 +446,26 @@ int cmd_coolant(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv
   int on = 0;
   if (Tcl_GetBooleanFromObj(interp, objv[2], &on) != TCL_OK)
     return TCL_ERROR;
-  return session_result(interp, s, rp_coolant(s, on, Tcl_GetString(objv[3])));
+  const char* text = nullptr;
+  if (get_text(interp, objv[3], "coolant mode", &text) != TCL_OK)
+    return TCL_ERROR;
+  return session_result(interp, s, rp_coolant(s, on, text));
 }
 
 int cmd_comment(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   SESSION_ARGS(1, "text")
-  return session_result(interp, s, rp_comment(s, Tcl_GetString(objv[2])));
+  const char* text = nullptr;
+  if (get_text(interp, objv[2], "comment", &text) != TCL_OK)
+    return TCL_ERROR;
+  return session_result(interp, s, rp_comment(s, text));
 }
 
 int cmd_literal(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   SESSION_ARGS(1, "text")
-  return session_result(interp, s, rp_literal(s, Tcl_GetString(objv[2])));
+  const char* text = nullptr;
+  if (get_text(interp, objv[2], "literal", &text) != TCL_OK)
+    return TCL_ERROR;
+  return session_result(interp, s, rp_literal(s, text));
 }
 
 int cmd_close(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {

@@ -389,6 +389,24 @@ TEST_CASE("abi: a literal with a CR is refused at its line, the CR shown escaped
   CHECK(fs::is_empty(dir));
 }
 
+TEST_CASE("abi: a coordinate beyond 1e7 mm and a tool of 1e300 mm are refused at their event") {
+  for (const int plan : {RP_PLAN_LOCAL, RP_PLAN_GLOBAL}) {
+    const std::string dir = fresh_dir(plan == RP_PLAN_LOCAL ? "far_local" : "far_global");
+    rp_options o = options_for(dir, "T");
+    o.plan = static_cast<decltype(o.plan)>(plan);
+    rp_session* s = nullptr;
+    REQUIRE(rp_open(&o, &s) == RP_OK);
+    CHECK(rp_linear_move(s, 1e300, -450, 100, 0, 0, 1) == RP_ERR_BAD_INPUT);
+    CHECK(contains(rp_last_error(s), "a move to a coordinate beyond 1e+07 mm"));
+    rp_free(s);
+    REQUIRE(rp_open(&o, &s) == RP_OK);
+    CHECK(rp_tool_change(s, 1, "LONG", 10, 1e300) == RP_ERR_BAD_INPUT);
+    CHECK(contains(rp_last_error(s), "a tool length is a number of mm from 0 to 2000"));
+    rp_free(s);
+    CHECK(fs::is_empty(dir));
+  }
+}
+
 TEST_CASE("abi: a session without moves writes nothing at close") {
   const std::string dir = fresh_dir("empty");
   const rp_options o = options_for(dir, "T");

@@ -67,6 +67,7 @@ mkdir -p "$GEN/a_dir.apt"
 # A CL file whose lines end in CR alone, and one named like a KRL keyword.
 tr '\n' '\r' <"$SRC/examples/cl/pocket_arcs.apt" >"$GEN/cr_only.apt"
 cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/end.apt"
+cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/a_very_long_program_name_x.apt"
 # A placement job whose program is named like a KRL keyword (refused before the optimisation).
 sed -e "s|../../definitions|$SRC/definitions|" -e 's|name="CARO2014_PLACEMENT"|name="end"|' \
   "$SRC/examples/placement/caro2014_job.xml" >"$GEN/job_name_end.xml"

@@ -27,6 +27,7 @@ int redpost_fuzz_krl_template(const std::uint8_t*, std::size_t);
 int redpost_fuzz_krl_reader(const std::uint8_t*, std::size_t);
 int redpost_fuzz_calibration_csv(const std::uint8_t*, std::size_t);
 int redpost_fuzz_convert(const std::uint8_t*, std::size_t);
+int redpost_fuzz_abi_calls(const std::uint8_t*, std::size_t);
 }
 
 namespace {
@@ -43,6 +44,7 @@ const Target kTargets[] = {
     {"krl_reader", redpost_fuzz_krl_reader},
     {"calibration_csv", redpost_fuzz_calibration_csv},
     {"convert", redpost_fuzz_convert},
+    {"abi_calls", redpost_fuzz_abi_calls},
 };
 
 }  // namespace

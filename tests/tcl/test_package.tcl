@@ -181,6 +181,13 @@ check session.literal {string match {*$OUT\[17\] = TRUE ; a literal line*} \
 # Free text is never KRL: a literal that is not one of the statements redpost checks is refused.
 file mkdir $work/literal
 set s_lit [::redpost::open -cell $cell -output $work/literal -name LIT -source lit.apt]
+# A NUL in a Tcl string is the bytes C0 80 inside the package: refused before the ABI.
+check_error session.nul_in_comment {::redpost::comment $s_lit "a\0b"} {REDPOST USAGE} \
+    {the comment holds a NUL character*}
+check_error session.nul_in_literal {::redpost::literal $s_lit "\$OUT\[1\] = TRUE\0"} \
+    {REDPOST USAGE} {the literal holds a NUL character*}
+check_error session.nul_in_tool_name {::redpost::tool_change $s_lit 1 "MILL\0X" 10 75} \
+    {REDPOST USAGE} {the tool name holds a NUL character*}
 check_error session.literal_refused {::redpost::literal $s_lit "this is not KRL at all !!"} \
     {REDPOST RP_ERR_BAD_INPUT} {*cannot be passed to the KRL program*}
 ::redpost::free $s_lit

@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "krl/diff_align.hpp"
+#include "krl/diff_path.hpp"
 #include "krl/reader_parse.hpp"
 #include "krl/text.hpp"
 #include "redpost/io/error.hpp"
@@ -27,24 +28,59 @@ namespace redpost {
 namespace fs = std::filesystem;
 
 const char* krl_quantity_name(KrlQuantity q) {
-  static const char* const names[kKrlQuantityCount] = {
-      "position", "orientation", "aux_position", "A1",      "A2",         "A3", "A4",
-      "A5",       "A6",          "E1",           "E2",      "E3",         "E4", "E5",
-      "E6",       "status",      "turn",         "keyword", "target_kind"};
+  static const char* const names[kKrlQuantityCount] = {"position",     "orientation",
+                                                       "aux_position", "A1",
+                                                       "A2",           "A3",
+                                                       "A4",           "A5",
+                                                       "A6",           "E1",
+                                                       "E2",           "E3",
+                                                       "E4",           "E5",
+                                                       "E6",           "status",
+                                                       "turn",         "keyword",
+                                                       "target_kind",  "vel_cp",
+                                                       "apo_cdis",     "ptp_velocity",
+                                                       "tool",         "base",
+                                                       "path",         "path_orientation"};
   return names[static_cast<int>(q)];
+}
+
+bool krl_quantity_is_summarised(KrlQuantity q) {
+  switch (q) {
+    case KrlQuantity::keyword:
+    case KrlQuantity::target_kind:
+    case KrlQuantity::vel_cp:
+    case KrlQuantity::apo_cdis:
+    case KrlQuantity::ptp_velocity:
+    case KrlQuantity::tool:
+    case KrlQuantity::base:
+    case KrlQuantity::path:
+    case KrlQuantity::path_orientation:
+      return true;
+    default:
+      return false;
+  }
 }
 
 const char* krl_quantity_unit(KrlQuantity q) {
   switch (q) {
     case KrlQuantity::position:
     case KrlQuantity::aux_position:
+    case KrlQuantity::apo_cdis:
+    case KrlQuantity::path:
       return "mm";
     case KrlQuantity::orientation:
+    case KrlQuantity::path_orientation:
       return "deg";
+    case KrlQuantity::vel_cp:
+      return "m/s";
+    case KrlQuantity::ptp_velocity:
+      return "%";
     case KrlQuantity::status:
     case KrlQuantity::turn:
     case KrlQuantity::keyword:
     case KrlQuantity::target_kind:
+    case KrlQuantity::tool:
+    case KrlQuantity::base:
       return "";
     default:
       return "axis";  // deg for rotary axes, mm for linear ones
@@ -65,6 +101,7 @@ using krl::upper;
 // of the previous target of the same kind (KRL takes them from the current position).
 struct Pose {
   const KrlMotionRecord* m = nullptr;
+  size_t index = 0;  // in its program's motions
   std::string keyword;
   bool cartesian = false;  // X/Y/Z target
   bool axis = false;       // A1..A6 target
@@ -91,6 +128,7 @@ std::vector<Pose> complete_poses(const KrlProgram& p) {
   for (const KrlMotionRecord& m : p.motions) {
     Pose pose;
     pose.m = &m;
+    pose.index = out.size();
     pose.keyword = upper(m.keyword);
     const auto& v = m.target.values;
     pose.cartesian = m.target.has("X") || m.target.has("Y") || m.target.has("Z") ||
@@ -157,11 +195,13 @@ uint64_t rounded(double v, double grid) {
   return static_cast<uint64_t>(std::llround(v / grid));
 }
 
-// Keyword and position rounded to 0.1 mm (axis targets: axes rounded to 0.1), and with
+// Kind of target and position rounded to 0.1 mm (axis targets: axes rounded to 0.1), and with
 // `with_cl` the CL line. The key only decides which motions are paired; every pair is then
 // compared in full, and motions whose keys differ inside a run of mismatches are paired again.
 uint64_t motion_key(const Pose& p, bool with_cl) {
-  uint64_t h = std::hash<std::string>{}(p.keyword);
+  // The kind of target, not the keyword: a template that writes SLIN for LIN must pair each
+  // motion with its partner (the keyword is then one summarised difference).
+  uint64_t h = p.cartesian ? 1 : p.axis ? 2 : 3;
   if (with_cl)
     h = mix(h, static_cast<uint64_t>(p.m->cl_line));
   if (p.cartesian) {
@@ -202,9 +242,17 @@ std::string bits(int v) {
   return "'B" + s + "'";
 }
 
+// Text of a setting for a summary: its value, or "not set".
+std::string setting_text(double v, const char* unit) {
+  return v < 0.0 ? std::string("not set") : fmt::format("{:g} {}", v, unit);
+}
+
 class Comparer {
  public:
-  Comparer(const KrlDiffOptions& o, KrlDiffResult& r) : opt_(o), r_(r) {}
+  // on_path_a/b: per motion, whether its point lies on the other program's path (as_curves).
+  Comparer(const KrlDiffOptions& o, KrlDiffResult& r, const std::vector<char>& on_path_a,
+           const std::vector<char>& on_path_b)
+      : opt_(o), r_(r), on_path_a_(on_path_a), on_path_b_(on_path_b) {}
 
   void pair(const Pose& a, const Pose& b) {
     ++r_.compared;
@@ -227,15 +275,18 @@ class Comparer {
       };
       measure(KrlQuantity::target_kind, 1.0, 0.0, std::string("A ") + kind(a) + ", B " + kind(b));
     }
-    if (a.cartesian && b.cartesian) {
+    // As curves, the Cartesian geometry is the path comparison's (compare_paths).
+    const bool geometry = !(opt_.as_curves && a.cartesian && b.cartesian);
+    if (a.cartesian && b.cartesian && geometry) {
       if (finite3(a.xyz) && finite3(b.xyz))
         measure(KrlQuantity::position, dist3(a.xyz, b.xyz), opt_.pos_tol_mm);
       if (finite3(a.abc) && finite3(b.abc))
         measure(KrlQuantity::orientation, orientation_deviation_deg(a.abc, b.abc),
                 opt_.ang_tol_deg);
     }
-    if (a.has_aux && b.has_aux && finite3(a.aux) && finite3(b.aux))
+    if (geometry && a.has_aux && b.has_aux && finite3(a.aux) && finite3(b.aux))
       measure(KrlQuantity::aux_position, dist3(a.aux, b.aux), opt_.pos_tol_mm);
+    measure_settings(*a.m, *b.m, measure);
     for (int i = 0; i < 12; ++i) {
       const double va = a.axes[static_cast<size_t>(i)], vb = b.axes[static_cast<size_t>(i)];
       if (std::isfinite(va) && std::isfinite(vb))
@@ -254,6 +305,20 @@ class Comparer {
       return;
     }
     ++r_.changed;
+    // Summarised quantities (a keyword, a setting) are said once for the program; the pair is
+    // listed only for what else differs.
+    bool per_motion = false;
+    for (const KrlDeviation& d : over) {
+      if (krl_quantity_is_summarised(d.quantity))
+        summarise(d, a, b);
+      else
+        per_motion = true;
+    }
+    if (!per_motion) {
+      last_ = KrlDifference::Kind::changed;
+      run_open_ = false;
+      return;
+    }
     KrlDifference d;
     d.kind = KrlDifference::Kind::changed;
     d.file_a = a.m->file;
@@ -268,6 +333,9 @@ class Comparer {
   }
 
   void only(const Pose& p, bool in_b) {
+    // As curves, a point on the other program's path is the same path with other points.
+    if (opt_.as_curves && p.cartesian && (in_b ? on_path_b_ : on_path_a_)[p.index])
+      return;
     const auto kind = in_b ? KrlDifference::Kind::inserted : KrlDifference::Kind::removed;
     (in_b ? r_.inserted : r_.removed) += 1;
     if (run_open_ && last_ == kind) {
@@ -294,7 +362,75 @@ class Comparer {
     last_ = kind;
   }
 
+  // A summarised difference found outside the pairs (the path comparison).
+  void summarise(const KrlDeviation& d, const Pose* a, const Pose* b) {
+    auto it = std::find_if(r_.summaries.begin(), r_.summaries.end(),
+                           [&](const KrlSummaryDifference& s) { return s.quantity == d.quantity; });
+    if (it == r_.summaries.end()) {
+      ++r_.difference_count;
+      KrlSummaryDifference s;
+      s.quantity = d.quantity;
+      if (a) {
+        s.file_a = a->m->file;
+        s.line_a = a->m->line;
+      }
+      if (b) {
+        s.file_b = b->m->file;
+        s.line_b = b->m->line;
+      }
+      s.detail = d.detail.empty() ? fmt::format("{:g} {}", d.value, krl_quantity_unit(d.quantity))
+                                  : d.detail;
+      r_.summaries.push_back(std::move(s));
+      it = r_.summaries.end() - 1;
+    }
+    ++it->count;
+  }
+
  private:
+  void summarise(const KrlDeviation& d, const Pose& a, const Pose& b) { summarise(d, &a, &b); }
+
+  // The settings in force at each motion: $VEL.CP, $APO.CDIS, the PTP velocity, $TOOL, $BASE.
+  template <class Measure>
+  void measure_settings(const KrlMotionRecord& a, const KrlMotionRecord& b, Measure& measure) {
+    // The detail text is made only for a value over its tolerance (this runs at every pair).
+    const auto m = [&](KrlQuantity q, double value, double tol, auto&& detail) {
+      measure(q, value, tol, value > tol ? detail() : std::string());
+    };
+    m(KrlQuantity::vel_cp, std::abs(a.vel_cp_m_per_s - b.vel_cp_m_per_s), opt_.vel_tol_m_per_s,
+      [&] { return fmt::format("A {:g} m/s, B {:g} m/s", a.vel_cp_m_per_s, b.vel_cp_m_per_s); });
+    const bool apo_set = (a.apo_cdis_mm < 0.0) == (b.apo_cdis_mm < 0.0);
+    m(KrlQuantity::apo_cdis, apo_set ? std::abs(a.apo_cdis_mm - b.apo_cdis_mm) : 1.0,
+      apo_set ? opt_.pos_tol_mm : 0.0, [&] {
+        return "A " + setting_text(a.apo_cdis_mm, "mm") + ", B " +
+               setting_text(b.apo_cdis_mm, "mm");
+      });
+    const bool ptp_set = (a.ptp_velocity_percent < 0.0) == (b.ptp_velocity_percent < 0.0);
+    m(KrlQuantity::ptp_velocity,
+      ptp_set ? std::abs(a.ptp_velocity_percent - b.ptp_velocity_percent) : 1.0, 0.0, [&] {
+        return "A " + setting_text(a.ptp_velocity_percent, "%") + ", B " +
+               setting_text(b.ptp_velocity_percent, "%");
+      });
+    const auto shown = [](const std::string& t) { return t.empty() ? std::string("not set") : t; };
+    m(KrlQuantity::tool, same_setting(a.tool, b.tool) ? 0.0 : 1.0, 0.0,
+      [&] { return "A " + shown(a.tool) + ", B " + shown(b.tool); });
+    m(KrlQuantity::base, same_setting(a.base, b.base) ? 0.0 : 1.0, 0.0,
+      [&] { return "A " + shown(a.base) + ", B " + shown(b.base); });
+  }
+
+  // $TOOL and $BASE right-hand sides, compared without blanks and case.
+  static bool same_setting(const std::string& x, const std::string& y) {
+    if (x == y)
+      return true;
+    std::string u, v;
+    for (char c : x)
+      if (!std::isspace(static_cast<unsigned char>(c)))
+        u += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (char c : y)
+      if (!std::isspace(static_cast<unsigned char>(c)))
+        v += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return u == v;
+  }
+
   bool add(KrlDifference d) {
     ++r_.difference_count;
     if (r_.differences.size() >= opt_.max_shown)
@@ -305,6 +441,8 @@ class Comparer {
 
   const KrlDiffOptions& opt_;
   KrlDiffResult& r_;
+  const std::vector<char>& on_path_a_;
+  const std::vector<char>& on_path_b_;
   KrlDifference::Kind last_ = KrlDifference::Kind::changed;
   bool run_open_ = false, run_shown_ = false;
 };
@@ -318,7 +456,7 @@ double pose_distance(const Pose& a, const Pose& b) {
     if (std::isfinite(d))
       s += d * d;
   }
-  return std::sqrt(s) + (a.keyword == b.keyword ? 0.0 : 1e6);
+  return std::sqrt(s) + (a.cartesian == b.cartesian ? 0.0 : 1e6);
 }
 
 // A run of unmatched motions (dels from A, ins into B) between two matches: motions are paired
@@ -392,97 +530,77 @@ void flush_hunk(const std::vector<Pose>& pa, const std::vector<Pose>& pb,
   }
 }
 
+// The Cartesian points of a program as a polyline; a motion to an axis target (or a relative
+// one) between two Cartesian motions breaks it.
+std::vector<krl::PathPoint> path_of(const std::vector<Pose>& poses) {
+  std::vector<krl::PathPoint> out;
+  bool broken = true;
+  for (const Pose& p : poses) {
+    if (!p.cartesian || p.m->relative || !finite3(p.xyz)) {
+      broken = true;
+      continue;
+    }
+    out.push_back({p.xyz, p.abc, broken});
+    broken = false;
+  }
+  return out;
+}
+
+// Every Cartesian point of `from` against the path of `to`: the path quantities' statistics,
+// the largest distance, and per motion whether its point lies on the other path.
+void compare_path(const std::vector<Pose>& from, const krl::PathIndex& to, const KrlDiffOptions& o,
+                  KrlDiffResult& r, std::vector<char>& on_path, Comparer& cmp) {
+  on_path.assign(from.size(), 0);
+  if (to.empty())
+    return;
+  KrlQuantityStats& sp = r.statistics[static_cast<size_t>(KrlQuantity::path)];
+  KrlQuantityStats& so = r.statistics[static_cast<size_t>(KrlQuantity::path_orientation)];
+  for (const Pose& p : from) {
+    if (!p.cartesian || p.m->relative || !finite3(p.xyz))
+      continue;
+    const krl::PathIndex::Nearest n = to.nearest({p.xyz, p.abc, false});
+    ++sp.compared;
+    sp.sum += n.distance_mm;
+    if (n.distance_mm > r.path_distance_mm || (!n.exact && r.path_exact)) {
+      r.path_distance_mm = std::max(r.path_distance_mm, n.distance_mm);
+      r.path_exact = r.path_exact && n.exact;
+      r.path_file = p.m->file;
+      r.path_line = p.m->line;
+    }
+    sp.max = std::max(sp.max, n.distance_mm);
+    on_path[p.index] = n.distance_mm <= o.path_tol_mm;
+    if (n.distance_mm > o.path_tol_mm) {
+      ++sp.over_tolerance;
+      if (o.as_curves) {
+        cmp.summarise({KrlQuantity::path, n.distance_mm,
+                       fmt::format("{}{:.6g} mm from the other path", n.exact ? "" : "more than ",
+                                   n.distance_mm)},
+                      &p, nullptr);
+      }
+    }
+    if (std::isfinite(n.orientation_deg)) {
+      ++so.compared;
+      so.sum += n.orientation_deg;
+      so.max = std::max(so.max, n.orientation_deg);
+      if (n.orientation_deg > o.ang_tol_deg) {
+        ++so.over_tolerance;
+        if (o.as_curves) {
+          cmp.summarise({KrlQuantity::path_orientation, n.orientation_deg,
+                         fmt::format("{:.6g} deg from the other path's orientation there",
+                                     n.orientation_deg)},
+                        &p, nullptr);
+        }
+      }
+    }
+  }
+}
+
 bool has_cl_lines(const KrlProgram& p) {
   return std::any_of(p.motions.begin(), p.motions.end(),
                      [](const KrlMotionRecord& m) { return m.cl_line > 0; });
 }
 
-void merge(KrlDiffResult& total, const KrlDiffResult& r, const KrlDiffOptions& o) {
-  total.equal = total.equal && r.equal;
-  total.motions_a += r.motions_a;
-  total.motions_b += r.motions_b;
-  total.compared += r.compared;
-  total.changed += r.changed;
-  total.inserted += r.inserted;
-  total.removed += r.removed;
-  total.difference_count += r.difference_count;
-  total.aligned_by_cl_line = total.aligned_by_cl_line || r.aligned_by_cl_line;
-  for (const KrlDifference& d : r.differences)
-    if (total.differences.size() < o.max_shown)
-      total.differences.push_back(d);
-  for (size_t q = 0; q < total.statistics.size(); ++q) {
-    KrlQuantityStats& t = total.statistics[q];
-    const KrlQuantityStats& s = r.statistics[q];
-    t.compared += s.compared;
-    t.over_tolerance += s.over_tolerance;
-    t.sum += s.sum;
-    t.max = std::max(t.max, s.max);
-  }
-}
-
-bool is_src(const fs::path& p) {
-  return upper(p.extension().string()) == ".SRC";
-}
-
-// Names called as subprograms in a .src: statements of the form NAME( ... ).
-std::set<std::string> called_names(const std::string& text) {
-  static const std::set<std::string> keywords = {
-      "IF",     "WHILE", "FOR",    "REPEAT", "UNTIL",     "SWITCH",  "WAIT",
-      "RETURN", "DEF",   "DEFFCT", "GLOBAL", "INTERRUPT", "TRIGGER", "ANIN",
-      "ANOUT",  "EXT",   "EXTFCT", "DECL",   "ELSE"};
-  std::set<std::string> out;
-  size_t pos = 0;
-  while (pos < text.size()) {
-    size_t eol = text.find('\n', pos);
-    if (eol == std::string::npos)
-      eol = text.size();
-    size_t i = pos;
-    while (i < eol && (text[i] == ' ' || text[i] == '\t'))
-      ++i;
-    if (i < eol && ident_start(text[i])) {
-      size_t j = i;
-      while (j < eol && ident_char(text[j]))
-        ++j;
-      size_t k = j;
-      while (k < eol && (text[k] == ' ' || text[k] == '\t'))
-        ++k;
-      if (k < eol && text[k] == '(') {
-        std::string name = upper(text.substr(i, j - i));
-        if (!keywords.count(name))
-          out.insert(name);
-      }
-    }
-    pos = eol + 1;
-  }
-  return out;
-}
-
 }  // namespace
-
-std::vector<std::string> krl_main_programs(const std::string& directory) {
-  std::vector<fs::path> files;
-  std::error_code ec;
-  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec)) {
-    if (it->is_regular_file() && is_src(it->path()))
-      files.push_back(it->path());
-  }
-  if (ec)
-    throw Error(ErrorCode::io, "cannot list the directory: " + ec.message(),
-                SourceLocation{directory, 0, 0});
-  std::set<std::string> called;
-  for (const fs::path& f : files) {
-    const std::string self = upper(f.stem().string());
-    for (const std::string& n : called_names(krl::read_krl_text(f.string())))
-      if (n != self)
-        called.insert(n);
-  }
-  std::vector<std::string> out;
-  for (const fs::path& f : files)
-    if (!called.count(upper(f.stem().string())))
-      out.push_back(f.string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
 
 KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
                                 const KrlDiffOptions& options) {
@@ -501,7 +619,29 @@ KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
   ka = {};
   kb = {};
 
-  Comparer cmp(options, r);
+  // The paths as curves, both ways: A's points against B's polyline, then B's against A's.
+  // The cell is the typical segment's length (at least 1 mm), so that a query looks at a few
+  // cells.
+  std::vector<char> on_path_a, on_path_b;
+  Comparer cmp(options, r, on_path_a, on_path_b);
+  {
+    std::vector<krl::PathPoint> path_a = path_of(pa), path_b = path_of(pb);
+    const auto cell = [](const std::vector<krl::PathPoint>& path) {
+      std::vector<double> lengths;
+      for (size_t i = 1; i < path.size(); ++i)
+        if (!path[i].starts_piece)
+          lengths.push_back(dist3(path[i - 1].xyz, path[i].xyz));
+      if (lengths.empty())
+        return 1.0;
+      std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2),
+                       lengths.end());
+      return std::max(1.0, lengths[lengths.size() / 2]);
+    };
+    const double h = std::max(cell(path_a), cell(path_b));
+    const krl::PathIndex index_a(std::move(path_a), h), index_b(std::move(path_b), h);
+    compare_path(pa, index_b, options, r, on_path_a, cmp);
+    compare_path(pb, index_a, options, r, on_path_b, cmp);
+  }
   std::vector<uint32_t> dels, ins;
   for (const krl::Step& s : steps) {
     if (s.op == krl::Op::match) {
@@ -521,39 +661,6 @@ KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
     flush_hunk(pa, pb, dels, ins, by_cl, cmp);
   r.equal = r.difference_count == 0;
   return r;
-}
-
-KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_b,
-                             const KrlDiffOptions& options) {
-  std::error_code ec;
-  const bool dir_a = fs::is_directory(path_a, ec), dir_b = fs::is_directory(path_b, ec);
-  if (dir_a != dir_b)
-    throw Error(ErrorCode::bad_input,
-                "cannot compare a directory with a file: '" + path_a + "' and '" + path_b + "'");
-  if (!dir_a)
-    return diff_krl_programs(read_krl_program(path_a), read_krl_program(path_b), options);
-
-  std::map<std::string, std::string> ma, mb;
-  for (const std::string& p : krl_main_programs(path_a))
-    ma[upper(fs::path(p).filename().string())] = p;
-  for (const std::string& p : krl_main_programs(path_b))
-    mb[upper(fs::path(p).filename().string())] = p;
-  KrlDiffResult total;
-  for (const auto& [name, pa] : ma) {
-    auto it = mb.find(name);
-    if (it == mb.end()) {
-      total.unmatched.push_back("only in A: " + pa);
-      continue;
-    }
-    merge(total, diff_krl_programs(read_krl_program(pa), read_krl_program(it->second), options),
-          options);
-  }
-  for (const auto& [name, pb] : mb)
-    if (!ma.count(name))
-      total.unmatched.push_back("only in B: " + pb);
-  if (!total.unmatched.empty())
-    total.equal = false;
-  return total;
 }
 
 }  // namespace redpost

@@ -23,13 +23,22 @@ std::string tolerance_of(KrlQuantity q, const KrlDiffOptions& o) {
   switch (q) {
     case KrlQuantity::position:
     case KrlQuantity::aux_position:
+    case KrlQuantity::apo_cdis:
       return num(o.pos_tol_mm);
     case KrlQuantity::orientation:
+    case KrlQuantity::path_orientation:
       return num(o.ang_tol_deg);
+    case KrlQuantity::vel_cp:
+      return num(o.vel_tol_m_per_s);
+    case KrlQuantity::path:
+      return num(o.path_tol_mm);
     case KrlQuantity::status:
     case KrlQuantity::turn:
     case KrlQuantity::keyword:
     case KrlQuantity::target_kind:
+    case KrlQuantity::ptp_velocity:
+    case KrlQuantity::tool:
+    case KrlQuantity::base:
       return "exact";
     default:
       return num(o.axis_tol);
@@ -124,9 +133,28 @@ std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o
         break;
     }
   }
-  if (r.difference_count > r.differences.size())
+  const size_t listed = r.differences.size() + r.summaries.size();
+  if (r.difference_count > listed)
     out += fmt::format("... {} more difference(s) not shown (--max-shown)\n",
-                       r.difference_count - r.differences.size());
+                       r.difference_count - listed);
+  // Program-wide differences, once each: a setting or a motion kind that differs at many
+  // motions, or the paths as curves (--as-curves).
+  for (const KrlSummaryDifference& d : r.summaries) {
+    const std::string at =
+        d.file_b.empty()   ? where(d.file_a, d.line_a, 0)
+        : d.file_a.empty() ? where(d.file_b, d.line_b, 0)
+                           : where(d.file_a, d.line_a, 0) + " <-> " + where(d.file_b, d.line_b, 0);
+    out += fmt::format("{} differs at {} motion{}: {} (first: {})\n", krl_quantity_name(d.quantity),
+                       d.count, d.count == 1 ? "" : "s", d.detail, at);
+  }
+  if (r.statistics[static_cast<size_t>(KrlQuantity::path)].compared > 0) {
+    out += fmt::format(
+        "paths as curves: the largest distance from a point of one program to the other's path "
+        "is {}{} mm{} (tolerance {} mm{})\n",
+        r.path_exact ? "" : "more than ", num(r.path_distance_mm),
+        r.path_file.empty() ? "" : ", at " + where(r.path_file, r.path_line, 0), num(o.path_tol_mm),
+        o.as_curves ? "" : "; --as-curves compares by it");
+  }
   out += fmt::format(
       "{}: {} motions in A, {} in B, {} compared ({}), {} changed, {} inserted, {} removed\n",
       r.equal ? "equal" : "different", r.motions_a, r.motions_b, r.compared,
@@ -153,8 +181,26 @@ std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o
       r.equal ? "true" : "false", r.motions_a, r.motions_b, r.compared, r.changed, r.inserted,
       r.removed, r.difference_count, r.aligned_by_cl_line ? "cl_line" : "position");
   out += fmt::format(
-      "\"tolerances\": {{\"position_mm\": {}, \"orientation_deg\": {}, \"axis\": {}}}, ",
-      json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol));
+      "\"tolerances\": {{\"position_mm\": {}, \"orientation_deg\": {}, \"axis\": {}, "
+      "\"vel_cp_m_per_s\": {}, \"path_mm\": {}}}, \"as_curves\": {}, ",
+      json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol),
+      json_number(o.vel_tol_m_per_s), json_number(o.path_tol_mm), o.as_curves ? "true" : "false");
+  out += fmt::format("\"path\": {{\"distance_mm\": {}, \"exact\": {}, \"file\": ",
+                     json_number(r.path_distance_mm), r.path_exact ? "true" : "false");
+  json_string(out, r.path_file);
+  out += fmt::format(", \"line\": {}}}, \"summaries\": [", r.path_line);
+  for (size_t i = 0; i < r.summaries.size(); ++i) {
+    const KrlSummaryDifference& d = r.summaries[i];
+    out += fmt::format("{}{{\"quantity\": \"{}\", \"count\": {}, \"detail\": ", i ? ", " : "",
+                       krl_quantity_name(d.quantity), d.count);
+    json_string(out, d.detail);
+    out += ", \"a\": {\"file\": ";
+    json_string(out, d.file_a);
+    out += fmt::format(", \"line\": {}}}, \"b\": {{\"file\": ", d.line_a);
+    json_string(out, d.file_b);
+    out += fmt::format(", \"line\": {}}}}}", d.line_b);
+  }
+  out += "], ";
   out += "\"unmatched\": [";
   for (size_t i = 0; i < r.unmatched.size(); ++i) {
     if (i)

@@ -45,6 +45,8 @@ using krl::upper;
 struct State {
   int cl_line = 0;
   double vel_cp = 0.0;
+  double apo_cdis = -1.0;      // $APO.CDIS (mm); -1: never set
+  double ptp_velocity = -1.0;  // BAS (#VEL_PTP, n) (%); -1: never set
   std::string base, tool;
 };
 
@@ -233,10 +235,16 @@ class Reader {
     a.erase(std::remove_if(a.begin(), a.end(),
                            [](char ch) { return std::isspace(static_cast<unsigned char>(ch)); }),
             a.end());
-    if (a.rfind("(#BASE,", 0) == 0)
+    if (a.rfind("(#BASE,", 0) == 0) {
       state_.base = "BAS" + a;
-    else if (a.rfind("(#TOOL,", 0) == 0)
+    } else if (a.rfind("(#TOOL,", 0) == 0) {
       state_.tool = "BAS" + a;
+    } else if (a.rfind("(#VEL_PTP,", 0) == 0) {
+      char* end = nullptr;
+      const double v = std::strtod(a.c_str() + 10, &end);
+      if (end != a.c_str() + 10 && *end == ')')
+        state_.ptp_velocity = v;
+    }
   }
 
   void cl_comment(const std::string& comment) {
@@ -264,6 +272,13 @@ class Reader {
     }
     if (lhs == "$BASE") {
       state_.base = rhs;
+      return;
+    }
+    if (lhs == "$APO.CDIS") {
+      char* end = nullptr;
+      const double v = std::strtod(rhs.c_str(), &end);
+      if (end != rhs.c_str() && trim(std::string(end)).empty())
+        state_.apo_cdis = v;
       return;
     }
     if (lhs == "$TOOL") {
@@ -369,6 +384,8 @@ class Reader {
     r.line = line;
     r.cl_line = state_.cl_line;
     r.vel_cp_m_per_s = state_.vel_cp;
+    r.apo_cdis_mm = state_.apo_cdis;
+    r.ptp_velocity_percent = state_.ptp_velocity;
     r.base = state_.base;
     r.tool = state_.tool;
     Cursor c{args, 0, m.src_path, line};

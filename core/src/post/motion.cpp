@@ -238,6 +238,13 @@ TcpTarget PostSession::Impl::target_in_B(const Eigen::Vector3d& p_mm, const Eige
     throw Error(ErrorCode::bad_input, "a move with a coordinate that is not a finite number",
                 SourceLocation{o.source_name, cl_line, 0});
   }
+  if (p_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("a move to a coordinate beyond {:g} mm (the CL reader's bound): "
+                            "check the units and the values",
+                            kMaxCoordinateMm),
+                SourceLocation{o.source_name, cl_line, 0});
+  }
   if (!(norm > 1e-9)) {
     throw Error(ErrorCode::bad_input, "a move with a tool axis of zero length",
                 SourceLocation{o.source_name, cl_line, 0});
@@ -347,9 +354,16 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
   // Long moves in steps, so that the redundancy is resolved continuously along them.
   const double length = (target.p_B_mm - last_target.p_B_mm).norm();
   const double turn = std::acos(std::clamp(target.z_B.dot(last_target.z_B), -1.0, 1.0));
-  const int steps = std::max(
-      1, static_cast<int>(
-             std::ceil(std::max(length / o.max_step_mm, rad_to_deg(turn) / o.max_step_axis_deg))));
+  const double step_count =
+      std::ceil(std::max(length / o.max_step_mm, rad_to_deg(turn) / o.max_step_axis_deg));
+  // Coordinates are bounded where they come in; this keeps the count an int whatever comes.
+  if (!(step_count < 1e8)) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("a move of {:g} mm cannot be followed in steps of {:g} mm", length,
+                            o.max_step_mm),
+                SourceLocation{o.source_name, cl_line, 0});
+  }
+  const int steps = std::max(1, static_cast<int>(step_count));
   line_steps.clear();
   for (int s = 1; s <= steps; ++s) {
     TcpTarget step = target;
@@ -472,6 +486,13 @@ void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen
       !tool_axis.allFinite()) {
     throw Error(ErrorCode::bad_input,
                 "a circular move with a coordinate that is not a finite number", at);
+  }
+  if (centre.cwiseAbs().maxCoeff() > kMaxCoordinateMm ||
+      p_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm || radius_mm > kMaxCoordinateMm) {
+    throw Error(
+        ErrorCode::bad_input,
+        fmt::format("a circular move with a coordinate or radius beyond {:g} mm", kMaxCoordinateMm),
+        at);
   }
   const double norm = axis.norm();
   if (!(norm > 1e-9))

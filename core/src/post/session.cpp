@@ -100,6 +100,15 @@ bool PostSession::defer(const ClEvent& e) {
     }
     if (!(e.tool_axis.norm() > 1e-9))
       throw Error(ErrorCode::bad_input, "a move with a tool axis of zero length", at);
+    if (e.p_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm ||
+        (e.kind == ClEventKind::arc && (e.arc_centre_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm ||
+                                        e.value > kMaxCoordinateMm))) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("a move to a coordinate beyond {:g} mm (the CL reader's bound): "
+                              "check the units and the values",
+                              kMaxCoordinateMm),
+                  at);
+    }
   }
   m.deferred.push_back(e);
   if (e.kind == ClEventKind::move || e.kind == ClEventKind::arc) {

@@ -25,6 +25,10 @@
 
 namespace redpost {
 
+// The largest coordinate a move may have (mm): the CL reader's bound, here for the hosts that
+// send moves through the ABI. Beyond it a move's length overflows what the steps can count.
+inline constexpr double kMaxCoordinateMm = 1e7;
+
 // A plane the tool may be below only on a straight line: points p with n . (p - point) >= 0
 // are above it. In CL (part) coordinates.
 struct ClearancePlane {

@@ -14,6 +14,8 @@ namespace {
 
 // A tool length the CL file states and a table's that differ by more than this are reported.
 constexpr double kLengthMismatchMm = 0.5;
+// No milling tool is 2 m long: a larger length is a typo (and 1e300 put the TCP at infinity).
+constexpr double kMaxToolLengthMm = 2000.0;
 
 }  // namespace
 
@@ -22,9 +24,12 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
   const SourceLocation at{o.source_name, cl_line, 0};
   if (number < 0)
     throw Error(ErrorCode::bad_input, fmt::format("tool number {} is not valid", number), at);
-  if (!std::isfinite(cl_length_mm) || cl_length_mm < 0.0) {
+  if (!std::isfinite(cl_length_mm) || cl_length_mm < 0.0 || cl_length_mm > kMaxToolLengthMm) {
     throw Error(ErrorCode::bad_input,
-                fmt::format("tool {}: length {} mm is not valid", number, cl_length_mm), at);
+                fmt::format("tool {}: length {:g} mm is not valid: a tool length is a number of "
+                            "mm from 0 to {:g}",
+                            number, cl_length_mm, kMaxToolLengthMm),
+                at);
   }
   const ToolTable& table = o.tools.tools.empty() ? cell.tools : o.tools;
   KrlToolChange change;

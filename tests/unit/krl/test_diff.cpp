@@ -1,4 +1,5 @@
 // redpost diff as a library: alignment, deviations, ABC equivalence, statistics and reports.
+#include <cmath>
 #include <string>
 
 #include "catch_compat.hpp"
@@ -183,6 +184,94 @@ TEST_CASE("diff: axes, S/T and keyword") {
   CHECK(keyword);
   CHECK(r.statistics[static_cast<int>(KrlQuantity::turn)].compared == 1);
   CHECK(r.statistics[static_cast<int>(KrlQuantity::turn)].over_tolerance == 0);
+}
+
+TEST_CASE("diff: settings and speeds are compared, each said once for the program") {
+  KrlProgram a = raster(40, true), b = a;
+  for (KrlMotionRecord& m : a.motions) {
+    m.vel_cp_m_per_s = 0.015;
+    m.tool = "TOOL_DATA[1]";
+    m.base = "BASE_DATA[1]";
+    m.apo_cdis_mm = 0.5;
+    m.ptp_velocity_percent = 20;
+  }
+  b = a;
+  CHECK(diff_krl_programs(a, b, KrlDiffOptions{}).equal);
+  // $TOOL written with other blanks and case is the same tool.
+  for (KrlMotionRecord& m : b.motions)
+    m.tool = "tool_data[ 1 ]";
+  CHECK(diff_krl_programs(a, b, KrlDiffOptions{}).equal);
+
+  const auto only = [&](auto change, KrlQuantity q, const std::string& detail) {
+    KrlProgram c = a;
+    for (size_t i = 10; i < c.motions.size(); ++i)
+      change(c.motions[i]);
+    const KrlDiffResult r = diff_krl_programs(a, c, KrlDiffOptions{});
+    CHECK_FALSE(r.equal);
+    CHECK(r.differences.empty());  // nothing listed motion by motion
+    REQUIRE(r.summaries.size() == 1);
+    CHECK(r.summaries[0].quantity == q);
+    CHECK(r.summaries[0].count == 30);
+    CHECK(r.summaries[0].line_a == 20);  // the first motion it differs at
+    CHECK(r.summaries[0].detail == detail);
+    CHECK(format_krl_diff_text(r, KrlDiffOptions{})
+              .find(std::string(krl_quantity_name(q)) + " differs at 30 motions") !=
+          std::string::npos);
+  };
+  only([](KrlMotionRecord& m) { m.vel_cp_m_per_s = 0.15; }, KrlQuantity::vel_cp,
+       "A 0.015 m/s, B 0.15 m/s");
+  only([](KrlMotionRecord& m) { m.tool = "TOOL_DATA[2]"; }, KrlQuantity::tool,
+       "A TOOL_DATA[1], B TOOL_DATA[2]");
+  only([](KrlMotionRecord& m) { m.base = "BASE_DATA[3]"; }, KrlQuantity::base,
+       "A BASE_DATA[1], B BASE_DATA[3]");
+  only([](KrlMotionRecord& m) { m.apo_cdis_mm = 2.0; }, KrlQuantity::apo_cdis, "A 0.5 mm, B 2 mm");
+  only([](KrlMotionRecord& m) { m.ptp_velocity_percent = 100; }, KrlQuantity::ptp_velocity,
+       "A 20 %, B 100 %");
+  only([](KrlMotionRecord& m) { m.keyword = "SLIN"; }, KrlQuantity::keyword, "A LIN, B SLIN");
+}
+
+TEST_CASE("diff: the same path with other points is equal as curves, within the path tolerance") {
+  // A, a polyline of a quarter circle of radius 100 mm in 20 chords; B, the same arc in 57
+  // chords (another chordal tolerance). The largest distance between the two polylines is the
+  // sagitta of A's chords: r (1 - cos(pi / 80)).
+  const auto arc = [](int chords) {
+    KrlProgram p;
+    for (int i = 0; i <= chords; ++i) {
+      const double t = 1.5707963267948966 * i / chords;
+      p.motions.push_back(lin(10 + i, 100 * std::cos(t), 100 * std::sin(t), 5.0, 0, 90, 0));
+      p.motions.back().target.values.erase("E1");
+    }
+    return p;
+  };
+  const KrlProgram a = arc(20), b = arc(57);
+  const double sagitta = 100.0 * (1.0 - std::cos(3.14159265358979323846 / 80.0));
+  KrlDiffOptions o;
+  const KrlDiffResult point_by_point = diff_krl_programs(a, b, o);
+  CHECK_FALSE(point_by_point.equal);
+  CHECK(point_by_point.path_distance_mm == Approx(sagitta).epsilon(1e-3));
+  CHECK(point_by_point.path_exact);
+
+  o.as_curves = true;
+  o.path_tol_mm = sagitta * 1.01;
+  const KrlDiffResult curves = diff_krl_programs(a, b, o);
+  CHECK(curves.equal);
+  CHECK(curves.inserted == 0);
+  o.path_tol_mm = sagitta * 0.5;
+  const KrlDiffResult tight = diff_krl_programs(a, b, o);
+  CHECK_FALSE(tight.equal);
+  REQUIRE(tight.summaries.size() == 1);
+  CHECK(tight.summaries[0].quantity == KrlQuantity::path);
+
+  // A point moved off the path by 0.3 mm is found as curves too, at its line.
+  KrlProgram c = b;
+  c.motions[30].target.values["Z"] = 5.3;
+  o.path_tol_mm = sagitta * 1.01;
+  const KrlDiffResult moved = diff_krl_programs(a, c, o);
+  CHECK_FALSE(moved.equal);
+  // 0.3 mm up from a point of B's arc, which is itself up to the sagitta off A's chords.
+  CHECK(moved.path_distance_mm >= 0.3);
+  CHECK(moved.path_distance_mm <= std::hypot(0.3, sagitta) + 1e-9);
+  CHECK(moved.path_line == 40);
 }
 
 TEST_CASE("diff: JSON report escapes strings and carries the expected keys") {

@@ -21,7 +21,16 @@ struct KrlDiffOptions {
   double pos_tol_mm = 0.001;   // a deviation counts when it is strictly larger than the tolerance
   double ang_tol_deg = 0.001;  // orientation
   double axis_tol = 0.001;     // A1..A6, E1..E6 in controller units (deg or mm)
-  size_t max_shown = 20;       // differences kept in KrlDiffResult::differences
+  double vel_tol_m_per_s = 1e-6;  // $VEL.CP (the writer prints 6 decimals)
+  // The Cartesian paths compared as curves: the largest distance from a point of either
+  // program to the other's polyline must not exceed this (mm).
+  double path_tol_mm = 0.001;
+  // true: positions and orientations of Cartesian motions are compared only as curves (the
+  // path quantities), and motions of one side whose point lies on the other's path are not
+  // insertions or removals: programs that trace the same path with other points (another
+  // chordal tolerance, CIRC against chords) compare equal within path_tol_mm.
+  bool as_curves = false;
+  size_t max_shown = 20;  // differences kept in KrlDiffResult::differences
 };
 
 // The quantities compared, in report order.
@@ -44,9 +53,19 @@ enum class KrlQuantity : int {
   status,
   turn,
   keyword,
-  target_kind,  // Cartesian target on one side, axis target on the other
+  target_kind,       // Cartesian target on one side, axis target on the other
+  vel_cp,            // $VEL.CP in force (m/s)
+  apo_cdis,          // $APO.CDIS in force (mm)
+  ptp_velocity,      // BAS (#VEL_PTP, n) in force (%)
+  tool,              // $TOOL in force (exact, as written)
+  base,              // $BASE in force (exact, as written)
+  path,              // distance of a point to the other program's polyline (mm), both ways
+  path_orientation,  // orientation against the other path's, interpolated there (deg)
   count_
 };
+// The quantities said once per program, as a summary, rather than at every motion: a changed
+// template or setting changes them at hundreds of motions at once.
+bool krl_quantity_is_summarised(KrlQuantity q);
 inline constexpr int kKrlQuantityCount = static_cast<int>(KrlQuantity::count_);
 const char* krl_quantity_name(KrlQuantity q);  // "position", "A1", "status", ...
 const char* krl_quantity_unit(KrlQuantity q);  // "mm", "deg", "" (exact quantities)
@@ -70,6 +89,16 @@ struct KrlDifference {
   std::vector<KrlDeviation> deviations;  // `changed`: the quantities over tolerance
 };
 
+// A program-wide difference: a summarised quantity over tolerance at `count` aligned pairs,
+// the first of them given with its values (`detail`, "A LIN, B SLIN").
+struct KrlSummaryDifference {
+  KrlQuantity quantity = KrlQuantity::keyword;
+  size_t count = 0;
+  std::string file_a, file_b;
+  int line_a = 0, line_b = 0;
+  std::string detail;
+};
+
 struct KrlQuantityStats {
   size_t compared = 0;
   size_t over_tolerance = 0;
@@ -87,7 +116,15 @@ struct KrlDiffResult {
   size_t removed = 0;           // motions only in A
   size_t difference_count = 0;  // all differences (changed pairs + insertion/removal runs)
   bool aligned_by_cl_line = false;
-  std::vector<KrlDifference> differences;  // the first max_shown, in program order
+  std::vector<KrlDifference> differences;       // the first max_shown, in program order
+  std::vector<KrlSummaryDifference> summaries;  // one per summarised quantity that differs
+  // The Cartesian paths as curves: the largest distance from a point of one program to the
+  // other's polyline (mm), and where (the point's file and line). exact false: farther than
+  // the search went, `path_distance_mm` is then a lower bound.
+  double path_distance_mm = 0.0;
+  std::string path_file;
+  int path_line = 0;
+  bool path_exact = true;
   std::array<KrlQuantityStats, kKrlQuantityCount> statistics{};
   // Directory comparison: programs found on one side only ("only in A: FOO.src").
   std::vector<std::string> unmatched;

@@ -3,8 +3,8 @@
 //
 // The reader follows a program through the subprograms it calls (a split program's parts) and
 // returns its motions in execution order, each with the file and line it came from, the target
-// resolved (named points from the .dat), and the state in force ($VEL.CP, $APO, $BASE, $TOOL,
-// the last "CL line" comment). Errors name file:line.
+// resolved (named points from the .dat), and the state in force ($VEL.CP, $APO.CDIS, the PTP
+// velocity of BAS (#VEL_PTP, n), $BASE, $TOOL, the last "CL line" comment). Errors name file:line.
 #pragma once
 
 #include <array>
@@ -38,9 +38,11 @@ struct KrlMotionRecord {
   bool relative = false;            // LIN_REL, PTP_REL
   std::string file;                 // the .src it is in
   int line = 0;
-  int cl_line = 0;              // from the last "; CL line N" comment before it (0: none)
-  double vel_cp_m_per_s = 0.0;  // $VEL.CP in force (0: never set)
-  std::string base, tool;       // right-hand sides of the $BASE / $TOOL in force
+  int cl_line = 0;                     // from the last "; CL line N" comment before it (0: none)
+  double vel_cp_m_per_s = 0.0;         // $VEL.CP in force (0: never set)
+  double apo_cdis_mm = -1.0;           // $APO.CDIS in force (-1: never set)
+  double ptp_velocity_percent = -1.0;  // BAS (#VEL_PTP, n) in force (-1: never set)
+  std::string base, tool;              // right-hand sides of the $BASE / $TOOL in force
 };
 
 struct KrlProgram {
