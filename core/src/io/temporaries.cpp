@@ -19,8 +19,9 @@ namespace fs = std::filesystem;
 namespace {
 
 // One slot of the clean-up list. Slots are never freed: a signal handler may walk the list at
-// any moment, so a slot only changes hands through `state`, and its buffer is replaced only
-// while the slot is `writing` (the handler skips those).
+// any moment without a lock, so a slot only changes hands through `state`, and its buffer is
+// written only while the slot is `writing` (the handler skips those). Threads that register and
+// forget take `g_mutex`, which orders their reads and writes of the paths.
 struct Slot {
   enum : int { free_slot, writing, live };
   std::atomic<int> state{free_slot};
@@ -30,24 +31,24 @@ struct Slot {
 };
 
 std::atomic<Slot*> g_slots{nullptr};
+std::mutex g_mutex;
 
 void remove_at_exit() {
   remove_all_temporaries();
 }
 
+// A free slot, or a new one at the head of the list; called with g_mutex held.
 Slot* claim_slot() {
   for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
-    int expected = Slot::free_slot;
-    if (s->state.compare_exchange_strong(expected, Slot::writing))
+    if (s->state.load(std::memory_order_relaxed) == Slot::free_slot) {
+      s->state.store(Slot::writing, std::memory_order_relaxed);
       return s;
+    }
   }
   auto* s = new Slot;
-  s->state.store(Slot::writing);
-  Slot* head = g_slots.load(std::memory_order_relaxed);
-  do {
-    s->next = head;
-  } while (!g_slots.compare_exchange_weak(head, s, std::memory_order_release,
-                                          std::memory_order_relaxed));
+  s->state.store(Slot::writing, std::memory_order_relaxed);
+  s->next = g_slots.load(std::memory_order_relaxed);
+  g_slots.store(s, std::memory_order_release);
   return s;
 }
 
@@ -92,6 +93,7 @@ int open_unique(const std::string& final_path, const char* suffix, std::string& 
 void register_temporary(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { std::atexit(remove_at_exit); });
+  const std::lock_guard<std::mutex> lock(g_mutex);
   Slot* s = claim_slot();
   if (s->capacity < path.size() + 1) {
     delete[] s->path;  // the slot is `writing`: no handler reads it
@@ -103,11 +105,11 @@ void register_temporary(const std::string& path) {
 }
 
 void forget_temporary(const std::string& path) noexcept {
+  const std::lock_guard<std::mutex> lock(g_mutex);
   for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
-    if (s->state.load(std::memory_order_acquire) == Slot::live && path == s->path) {
-      int expected = Slot::live;
-      if (s->state.compare_exchange_strong(expected, Slot::free_slot))
-        return;
+    if (s->state.load(std::memory_order_relaxed) == Slot::live && path == s->path) {
+      s->state.store(Slot::free_slot, std::memory_order_release);
+      return;
     }
   }
 }
