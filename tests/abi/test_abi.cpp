@@ -366,9 +366,9 @@ TEST_CASE("abi: a second session writing the same program is refused; outputs ma
   CHECK(second == nullptr);
   CHECK(contains(rp_last_error(nullptr), "is being written into this folder"));
   CHECK(rp_close(first) == RP_OK);
-  rp_free(first);
-  REQUIRE(rp_open(&o, &second) == RP_OK);  // the lock went with the first session
+  REQUIRE(rp_open(&o, &second) == RP_OK);  // closed, the first session holds no lock
   rp_free(second);
+  rp_free(first);
 
   rp_options clash = options_for(dir, "T");
   clash.joints_csv_path = kCell.c_str();

@@ -455,6 +455,7 @@ std::vector<std::string> KrlWriter::finish() {
   prepare();
   w.rename_files();
   w.finished = true;
+  w.lock = OutputLock();  // the program is in place: another writer may take it now
 
   std::vector<std::string> written;
   const auto src = [&](const std::string& name) {
