@@ -117,8 +117,56 @@ def long_pass():
     return "\n".join(out) + "\n"
 
 
+def caro2014_contour():
+    """The tool path of the placement job (examples/placement/caro2014_job.xml) as a CL file:
+    the five 200 mm segments of Caro 2014 Figure 3.1 as chosen there, offset by the 20 mm tool's
+    radius away from the material (on the right of the feed), 10 mm between points, one TOOL
+    PATH per segment so that the cutting file can give each its width of cut."""
+    r, z, points = 10.0, 0.0, 20
+    corners = [("A", -400.0, -200.0), ("B", -200.0, -200.0), ("C", -200.0, 0.0),
+               ("O_W", 0.0, 0.0), ("D", 0.0, -200.0), ("E", 200.0, -200.0)]
+    # The offset path: each segment's line moved by r to the left of its feed; consecutive
+    # lines meet at the offset corners (the ends are moved across their own segment only).
+    lines = []
+    for (_, x0, y0), (_, x1, y1) in zip(corners, corners[1:]):
+        dx, dy = (x1 - x0) / 200.0, (y1 - y0) / 200.0
+        lines.append(((x0 - dy * r, y0 + dx * r), (x1 - dy * r, y1 + dx * r), (dx, dy)))
+    ends = [lines[0][0]]
+    for (p0, _, d0), (p1, _, d1) in zip(lines, lines[1:]):
+        # Intersection of p0 + s d0 and p1 + t d1 (the segments turn by 90 degrees).
+        det = d0[0] * -d1[1] + d1[0] * d0[1]
+        s = ((p1[0] - p0[0]) * -d1[1] + d1[0] * (p1[1] - p0[1])) / det
+        ends.append((p0[0] + s * d0[0], p0[1] + s * d0[1]))
+    ends.append(lines[-1][1])
+    out = [
+        "PARTNO/CARO2014 CONTOUR",
+        "$$ redpost example: the placement job's contour (Caro 2014 Figure 3.1, as chosen in",
+        "$$ examples/placement/caro2014_job.xml), 20 mm end mill, material on the right",
+        "UNITS/MM",
+        "CUTTER/20.,0",
+        "LOADTL/1",
+        "SPINDL/20000,RPM,CLW",
+        "RAPID",
+        f"GOTO/{f(ends[0][0])},{f(ends[0][1])},50",
+        "FEDRAT/MMPM,4000",
+        f"GOTO/{f(ends[0][0])},{f(ends[0][1])},{f(z)}",
+    ]
+    for k, ((a, _, _), (b, _, _)) in enumerate(zip(corners, corners[1:])):
+        out.append(f"TOOL PATH/{a}{b},TOOL,T1")
+        (x0, y0), (x1, y1) = ends[k], ends[k + 1]
+        n = max(1, round(points * math.hypot(x1 - x0, y1 - y0) / 200.0))
+        for i in range(1, n + 1):
+            out.append(f"GOTO/{f(x0 + (x1 - x0) * i / n)},{f(y0 + (y1 - y0) * i / n)},{f(z)}")
+        out.append("END-OF-PATH")
+    out += ["RAPID", f"GOTO/{f(ends[-1][0])},{f(ends[-1][1])},50", "SPINDL/OFF", "FINI"]
+    return "\n".join(out) + "\n"
+
+
 def main():
     os.makedirs(HERE, exist_ok=True)
+    placement = os.path.join(os.path.dirname(HERE), "placement", "caro2014_contour.apt")
+    with open(placement, "w", newline="\n") as out:
+        out.write(caro2014_contour())
     for name, text in (("pocket_arcs.apt", pocket_with_arcs()),
                        ("surface_5axis.cls", surface_5axis()),
                        ("long_pass.apt", long_pass())):

@@ -55,6 +55,11 @@ struct ConvertOptions {
   std::string preset = "smooth";
   double keyframe_spacing_mm = 20.0;
   std::vector<std::string> locks;  // --lock E1=500, --lock E2
+  // The deflection (docs/deflection.md): --predict-deflection, --compensate, --cutting FILE.
+  bool predict_deflection = false;
+  bool compensate = false;
+  std::string cutting_path;
+  double deflection_tolerance_mm = 0.05;
   bool quiet = false;
 };
 
@@ -138,6 +143,42 @@ std::string joint_value_text(const rp_joint_range_info& j, double v) {
   return fmt::format(j.prismatic ? "{:.1f} mm" : "{:.2f} deg", v);
 }
 
+// The deflection per CL operation (docs/deflection.md), when it was predicted.
+void print_deflection(const rp_session* session) {
+  rp_deflection_summary d{};
+  d.struct_size = sizeof d;
+  if (rp_deflection_summary_get(session, &d) != RP_OK || d.mode == RP_DEFLECTION_OFF)
+    return;
+  const bool comp = d.mode == RP_DEFLECTION_COMPENSATE;
+  fmt::print(
+      "deflection under the cutting force ({}; tolerance {:g} mm along the wall's "
+      "normal):\n",
+      comp ? "compensated" : "predicted", d.tolerance_mm);
+  fmt::print("  {:<20} {:>7} {:>9} {:>9} {:>10} {:>10} {:>7}{}\n", "operation", "moves", "max mm",
+             "rms mm", "normal max", "normal rms", "over",
+             comp ? "   after: normal max  over" : "");
+  for (int i = 0; i < d.operations; ++i) {
+    rp_deflection_info f{};
+    f.struct_size = sizeof f;
+    if (rp_deflection_get(session, i, &f) != RP_OK)
+      break;
+    const std::string name = *f.operation ? f.operation : "(no operation)";
+    fmt::print("  {:<20} {:>7} {:>9.3f} {:>9.3f} {:>10.3f} {:>10.3f} {:>7}", name, f.motions,
+               f.max_mm, f.rms_mm, f.max_normal_mm, f.rms_normal_mm, f.over_tolerance);
+    if (comp)
+      fmt::print("   {:>17.4f} {:>5}", f.max_residual_normal_mm, f.over_tolerance_after);
+    fmt::print("\n");
+  }
+  if (d.operations == 0)
+    fmt::print(
+        "  no cutting move with a load (plunges, drilling and moves with the spindle off "
+        "have none)\n");
+  if (comp) {
+    fmt::print("  fixed point: {} extra iteration(s) over the program, at most {} for one move\n",
+               d.compensation_iterations, d.max_compensation_iterations);
+  }
+}
+
 // The time model (docs/timing.md): cycle time, the axes against their limits, and the
 // stretches where an axis keeps the feed below the CL file's.
 void print_timing(const rp_session* session) {
@@ -206,6 +247,7 @@ void print_summary(const rp_session* session, double seconds) {
                joint_value_text(r, r.margin_lower) + " / " + joint_value_text(r, r.margin_upper));
   }
   print_timing(session);
+  print_deflection(session);
   for (int i = 0; const char* f = rp_output_file(session, i); ++i)
     fmt::print("wrote {}\n", f);
 }
@@ -268,7 +310,8 @@ void check_outputs(const ConvertOptions& opt, const std::string& name) {
   check_distinct_files({{"the CL input", opt.input},
                         {"--cell", opt.cell_path},
                         {"--krl", opt.krl_path},
-                        {"--tools", opt.tools_path}},
+                        {"--tools", opt.tools_path},
+                        {"--cutting", opt.cutting_path}},
                        {{"the program's .src", program_file(".src")},
                         {"the program's .dat", program_file(".dat")},
                         {"--joints-csv", opt.joints_csv},
@@ -321,6 +364,12 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
   o.keyframe_spacing_mm = opt.keyframe_spacing_mm;
   for (const std::string& l : opt.locks)
     parse_lock(l, o);
+  // --cutting alone asks for the prediction: the conditions have no other use.
+  o.deflection = opt.compensate                                        ? RP_DEFLECTION_COMPENSATE
+                 : opt.predict_deflection || !opt.cutting_path.empty() ? RP_DEFLECTION_PREDICT
+                                                                       : RP_DEFLECTION_OFF;
+  o.cutting_path = opt.cutting_path.empty() ? nullptr : opt.cutting_path.c_str();
+  o.deflection_tolerance_mm = opt.deflection_tolerance_mm;
 }
 
 int run_convert(const ConvertOptions& opt) {
@@ -467,6 +516,19 @@ Runner add_convert_command(CLI::App& app) {
   c->add_option("--lock", opt->locks,
                 "Hold an external axis: E1=500 at that value (mm or deg; global plan), E2 where "
                 "the first pose puts it; may be repeated");
+  c->add_flag("--predict-deflection", opt->predict_deflection,
+              "Predict the tool's deflection under the cutting force at every cutting move "
+              "(the cell needs joint stiffness; docs/deflection.md)");
+  c->add_flag("--compensate", opt->compensate,
+              "Move every cutting target against the predicted deflection (implies "
+              "--predict-deflection)");
+  c->add_option("--cutting", opt->cutting_path,
+                "Cutting conditions per operation (XML, docs/deflection.md); default: 4 teeth, "
+                "ae 50 % and ap 25 % of the diameter, Al7075-T6, down-milling");
+  c->add_option("--deflection-tol", opt->deflection_tolerance_mm,
+                "Tolerance the deflection normal to the wall is judged against, mm (default "
+                "0.05)")
+      ->check(CLI::Range(1e-6, 100.0));
   c->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
   return [opt] {
     try {

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "convert_report_deflection.hpp"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/report/html_report.hpp"
@@ -163,6 +164,8 @@ struct ConvertReport::Impl {
   Toolpath path;
   double threshold = kNaN;
   long motions = 0;
+  // The deflection under the cutting force (docs/deflection.md): its own section.
+  DeflectionTrace deflection{kBuckets};
 
   // The value of joint i as the robot programmer reads it, in the units rp_joint_range uses.
   double value_of(const rp_motion& m, std::size_t i) const {
@@ -199,6 +202,7 @@ struct ConvertReport::Impl {
         plan_deviation[i] =
             std::max(plan_deviation[i], scale * std::fabs(m.joints[i] - m.planned_joints[i]));
     }
+    deflection.on_motion(m);
   }
 
   static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
@@ -605,6 +609,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     add_external_axes_plot(r, d);
     add_plan_section(r, d);
     add_solver_and_feed_section(r, d);
+    d.deflection.add_section(r, session, motion_axis(d.motions));
     add_toolpath_section(r, d);
     count_warnings(r, run_total, run_shown);
     return r.html();

@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 3
-#define REDPOST_VERSION_PATCH 2
-#define REDPOST_VERSION "0.3.2"
+#define REDPOST_VERSION_MINOR 4
+#define REDPOST_VERSION_PATCH 0
+#define REDPOST_VERSION "0.4.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -84,9 +84,18 @@ typedef struct rp_options {
   unsigned lock_mask;         /* bit k set: external axis E(k+1) is held (not planned) */
   double lock_value[6];       /* E1..E6 (mm, deg) for a held axis (global plan only); NaN:
                                  where the first pose puts it */
+  /* Added in 0.4: the arm's deflection under the cutting forces (docs/deflection.md). The cell
+   * needs the joint stiffness of its six arm joints; hosts built against 0.3 get it off. */
+  int deflection;                 /* RP_DEFLECTION_OFF (default), _PREDICT or _COMPENSATE */
+  const char* cutting_path;       /* the cutting conditions file; NULL: the defaults */
+  double deflection_tolerance_mm; /* the normal deflection is judged against it; default 0.05 */
 } rp_options;
 
 enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };
+/* OFF: no model. PREDICT: the tool's deflection at every cutting move, the program unchanged.
+ * COMPENSATE: each cutting target moved against the deflection until the deflected tool lands
+ * on the CL point (a fixed point per move). */
+enum { RP_DEFLECTION_OFF = 0, RP_DEFLECTION_PREDICT = 1, RP_DEFLECTION_COMPENSATE = 2 };
 enum { RP_PLAN_SMOOTH = 0, RP_PLAN_STIFF = 1, RP_PLAN_FAST = 2 };
 
 typedef enum rp_spindle_direction {
@@ -115,7 +124,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.3.2". */
+/* The library's version, e.g. "0.4.0". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -234,6 +243,18 @@ typedef struct rp_motion {
    * stretch tracked pose by pose, PTP motions). */
   int planned;
   double planned_joints[16];
+  /* Appended in 0.4 (docs/deflection.md): the tool's deflection under the cutting force at this
+   * motion, at the posture written; has_deflection 0 where none was predicted (no model, a
+   * rapid, a PTP, a plunge, a drilling cycle, the spindle off, a step inside a longer move). */
+  int has_deflection;
+  double deflection_mm[3];           /* of the TCP, CL frame */
+  double deflection_rotation_rad[3]; /* small rotation vector, CL frame */
+  double deflection_normal_mm;       /* along the machined wall's normal: + cuts too deep */
+  double cutting_force_N;            /* the mean cutting force's magnitude */
+  double compensation_mm;            /* how far the target was moved (0 without compensation) */
+  double residual_mm;                /* the model's error left at the written posture */
+  double residual_normal_mm;         /* ... along the wall's normal */
+  int compensation_iterations;       /* of the fixed point (0 without compensation) */
 } rp_motion;
 
 /* Called once per written motion, once it is timed, on the thread that sent an event. The
@@ -282,6 +303,39 @@ typedef struct rp_feed_limit_info {
 } rp_feed_limit_info;
 /* RP_ERR_BAD_INPUT past the last one listed. */
 RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_limit_info* info);
+
+/* The deflection of the program (docs/deflection.md), complete after rp_prepare. Added in 0.4. */
+typedef struct rp_deflection_summary {
+  unsigned struct_size;         /* set to sizeof(rp_deflection_summary) before the call */
+  int mode;                     /* RP_DEFLECTION_OFF, _PREDICT or _COMPENSATE */
+  double tolerance_mm;          /* what the normal deflection was judged against */
+  int operations;               /* entries rp_deflection_get gives: CL operations with a load */
+  long unloaded_moves;          /* cutting moves without a modelled load (plunges, spindle off) */
+  long compensation_iterations; /* fixed-point iterations beyond the first, whole program */
+  int max_compensation_iterations; /* the most one move needed */
+} rp_deflection_summary;
+RP_API rp_status rp_deflection_summary_get(const rp_session* session,
+                                           rp_deflection_summary* summary);
+
+/* The deflection over CL operation number index (0-based, in program order). */
+typedef struct rp_deflection_info {
+  unsigned struct_size;  /* set to sizeof(rp_deflection_info) before the call */
+  const char* operation; /* its name ("" before any); valid while the session lives */
+  int first_line, last_line;
+  long motions;                        /* cutting moves with a load */
+  double max_mm, rms_mm;               /* |deflection of the TCP| */
+  double max_normal_mm, rms_normal_mm; /* |its component along the wall's normal| */
+  int max_normal_line;                 /* the CL line of the largest */
+  double max_rotation_rad;
+  double max_force_N;
+  long over_tolerance;    /* motions whose normal component passes the tolerance */
+  double max_residual_mm; /* after compensation (without it: the deflection) */
+  double max_residual_normal_mm;
+  long over_tolerance_after;
+  double max_compensation_mm; /* the longest move of a target */
+} rp_deflection_info;
+/* RP_ERR_BAD_INPUT past the last one. */
+RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_deflection_info* info);
 
 /* Warning number index (0-based) of the session, or NULL past the end. */
 RP_API const char* rp_warning(const rp_session* session, int index);

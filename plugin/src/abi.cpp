@@ -130,6 +130,29 @@ void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) 
   }
 }
 
+// The deflection options of rp_options into PostOptions (docs/deflection.md).
+void set_deflection_options(const rp_options& o, PostOptions& post) {
+  if (o.deflection < RP_DEFLECTION_OFF || o.deflection > RP_DEFLECTION_COMPENSATE) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("options.deflection is {}: use RP_DEFLECTION_OFF, "
+                               "RP_DEFLECTION_PREDICT or RP_DEFLECTION_COMPENSATE",
+                               o.deflection)};
+  }
+  post.deflection = o.deflection == RP_DEFLECTION_COMPENSATE ? DeflectionMode::compensate
+                    : o.deflection == RP_DEFLECTION_PREDICT  ? DeflectionMode::predict
+                                                             : DeflectionMode::off;
+  if (o.cutting_path) {
+    if (post.deflection == DeflectionMode::off) {
+      throw AbiError{RP_ERR_BAD_INPUT, "cutting conditions were given (" +
+                                           std::string(o.cutting_path) +
+                                           ") but no deflection prediction was asked: set "
+                                           "options.deflection"};
+    }
+    post.cutting = load_cutting_table(o.cutting_path);
+  }
+  post.deflection_tolerance_mm = o.deflection_tolerance_mm;
+}
+
 }  // namespace redpost::abi
 
 namespace {
@@ -165,6 +188,7 @@ RP_API void rp_options_init(rp_options* options) {
   options->plan = RP_PLAN_GLOBAL;
   options->plan_preset = RP_PLAN_SMOOTH;
   options->keyframe_spacing_mm = 20.0;
+  options->deflection_tolerance_mm = 0.05;
   for (double& v : options->lock_value)
     v = std::numeric_limits<double>::quiet_NaN();
 }
@@ -204,6 +228,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     redpost::check_distinct_files({{"the cell file", cell_path},
                                    {"the template set", o.krl_path ? o.krl_path : ""},
                                    {"the tool table", o.tools_path ? o.tools_path : ""},
+                                   {"the cutting conditions", o.cutting_path ? o.cutting_path : ""},
                                    {"the CL input", source}},
                                   {{"the program's .src", program_file(".src")},
                                    {"the program's .dat", program_file(".dat")},
@@ -257,6 +282,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
     }
     set_plan_options(o, s->cell, post);
+    set_deflection_options(o, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
     s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
   });
@@ -571,6 +597,19 @@ RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer 
       out.planned = m.q_plan ? 1 : 0;
       for (int i = 0; m.q_plan && i < out.joint_count && i < 16; ++i)
         out.planned_joints[i] = (*m.q_plan)[i];
+      if (const redpost::MotionDeflection* d = m.deflection) {
+        out.has_deflection = 1;
+        for (int i = 0; i < 3; ++i) {
+          out.deflection_mm[i] = d->translation_mm[i];
+          out.deflection_rotation_rad[i] = d->rotation_rad[i];
+        }
+        out.deflection_normal_mm = d->normal_mm;
+        out.cutting_force_N = d->force_N;
+        out.compensation_mm = d->compensation_mm;
+        out.residual_mm = d->residual_mm;
+        out.residual_normal_mm = d->residual_normal_mm;
+        out.compensation_iterations = d->iterations;
+      }
       fn(&out, user);
     });
   });
@@ -637,6 +676,72 @@ RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_lim
     out.limit = redpost::to_string(f.limit);
     out.lowest_mm_per_min = f.lowest_mm_per_min;
     out.asked_mm_per_min = f.asked_mm_per_min;
+    std::memcpy(info, &out, info->struct_size);
+  });
+}
+
+RP_API rp_status rp_deflection_summary_get(const rp_session* session,
+                                           rp_deflection_summary* summary) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!summary)
+      throw AbiError{RP_ERR_NULL, "rp_deflection_summary_get: summary is NULL"};
+    if (summary->struct_size == 0 || summary->struct_size > sizeof(rp_deflection_summary)) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_summary_get: struct_size is " +
+                                           std::to_string(summary->struct_size) +
+                                           "; set it to sizeof(rp_deflection_summary)"};
+    }
+    const redpost::PostSummary& s = session->summary();
+    rp_deflection_summary out{};
+    out.struct_size = summary->struct_size;
+    out.mode = s.deflection_mode == redpost::DeflectionMode::compensate ? RP_DEFLECTION_COMPENSATE
+               : s.deflection_mode == redpost::DeflectionMode::predict  ? RP_DEFLECTION_PREDICT
+                                                                        : RP_DEFLECTION_OFF;
+    out.tolerance_mm = s.deflection_tolerance_mm;
+    out.operations = static_cast<int>(s.deflection.size());
+    out.unloaded_moves = s.unloaded_moves;
+    out.compensation_iterations = s.compensation_iterations;
+    out.max_compensation_iterations = s.max_compensation_iterations;
+    std::memcpy(summary, &out, summary->struct_size);
+  });
+}
+
+RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_deflection_info* info) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!info)
+      throw AbiError{RP_ERR_NULL, "rp_deflection_get: info is NULL"};
+    if (info->struct_size == 0 || info->struct_size > sizeof(rp_deflection_info)) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_get: struct_size is " +
+                                           std::to_string(info->struct_size) +
+                                           "; set it to sizeof(rp_deflection_info)"};
+    }
+    const std::vector<redpost::DeflectionStats>& all = session->summary().deflection;
+    if (index < 0 || static_cast<std::size_t>(index) >= all.size()) {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_get: no operation " + std::to_string(index) +
+                                           " (" + std::to_string(all.size()) + " with a load)"};
+    }
+    const redpost::DeflectionStats& d = all[static_cast<std::size_t>(index)];
+    rp_deflection_info out{};
+    out.struct_size = info->struct_size;
+    out.operation = d.operation.c_str();
+    out.first_line = d.first_line;
+    out.last_line = d.last_line;
+    out.motions = d.motions;
+    out.max_mm = d.max_mm;
+    out.rms_mm = d.rms_mm;
+    out.max_normal_mm = d.max_normal_mm;
+    out.rms_normal_mm = d.rms_normal_mm;
+    out.max_normal_line = d.max_normal_line;
+    out.max_rotation_rad = d.max_rotation_rad;
+    out.max_force_N = d.max_force_N;
+    out.over_tolerance = d.over_tolerance;
+    out.max_residual_mm = d.max_residual_mm;
+    out.max_residual_normal_mm = d.max_residual_normal_mm;
+    out.over_tolerance_after = d.over_tolerance_after;
+    out.max_compensation_mm = d.max_compensation_mm;
     std::memcpy(info, &out, info->struct_size);
   });
 }

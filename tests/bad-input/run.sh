@@ -48,6 +48,14 @@ deep krl-templates "$GEN/deep_krl.xml"
 deep placement_job "$GEN/deep_job.xml"
 # A 20 MiB cell (sparse: costs no disk), beyond the 16 MiB limit of a definition.
 truncate -s 20M "$GEN/big_cell.xml"
+# The deflection (issue 20): a cell without joint stiffness, a feed of 0 and a cut without a
+# spindle speed.
+sed '/<stiffness/d' "$SRC/definitions/cells/andres2011_kr15_track_table.xml" \
+  >"$GEN/no_stiffness_cell.xml"
+printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nSPINDL/8000,RPM,CLW\nFEDRAT/0\nGOTO/-100,-300,60\n' \
+  >"$GEN/feed_zero.apt"
+printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nFEDRAT/MMPM,2000\nGOTO/-100,-300,60\nGOTO/-100,-310,60\n' \
+  >"$GEN/no_spindle.apt"
 # Binary garbage: a compressed CL file (a common mistake) and a compressed readings file.
 gzip -c "$SRC/examples/cl/pocket_arcs.apt" >"$GEN/pocket_arcs.apt.gz"
 # A NUL in an INSERT's text (it once cut the text there), and a cell file with a second root.

@@ -142,6 +142,28 @@ expect_out "whole-path plan: "
 grep -Eq "^d_L +E1 +500.0 mm .. 500.0 mm" "$TMP/out" || fail "cone: the track moved: $(grep d_L "$TMP/out")"
 passed
 
+begin "compensated against the arm's deflection: within the axis speeds, every line a controller takes, the same bytes twice; the prediction alone changes nothing"
+for f in "$SRC"/examples/cl/*; do
+  name=comp_$(basename "$f")
+  speeds "$name" "$f" --compensate
+  expect_out "deflection under the cutting force (compensated"
+  $py "$SRC/tests/cli/machine_check.py" statements "$TMP/$name" >"$TMP/check" 2>&1 ||
+    fail "$name: $(cat "$TMP/check")"
+  for variant in again pred plain; do
+    mkdir -p "$TMP/${name}_$variant"
+    opt=(--compensate)
+    [[ $variant == pred ]] && opt=(--predict-deflection)
+    [[ $variant == plain ]] && opt=()
+    run convert "$f" --cell "$cell" -o "$TMP/${name}_$variant" --name P -q "${opt[@]}"
+    expect_rc 0
+  done
+  cmp -s "$TMP/$name/P.src" "$TMP/${name}_again/P.src" || fail "$name: two compensated runs differ"
+  cmp -s "$TMP/${name}_pred/P.src" "$TMP/${name}_plain/P.src" ||
+    fail "$name: --predict-deflection changed the program"
+  cmp -s "$TMP/$name/P.src" "$TMP/${name}_plain/P.src" && fail "$name: the compensation moved nothing"
+done
+passed
+
 eval_dir=$SRC/../shared/evaldata
 if [[ ! -d "$eval_dir" ]]; then
   echo "cli.speeds: note: ../shared/evaldata not present, the real CAM files are skipped"

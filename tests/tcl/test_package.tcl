@@ -85,25 +85,25 @@ set cl $src/examples/cl
 # --- the package ----------------------------------------------------------------------------------
 
 set auto_path [linsert $auto_path 0 $libdir]
-check package.require {package require redpost} 0.3.2
-check package.version {::redpost::version} 0.3.2
+check package.require {package require redpost} 0.4.0
+check package.version {::redpost::version} 0.4.0
 check package.namespace {
     expr {[llength [info commands ::redpost::*]] >= 22}
 }
 
-# The package from an install layout: <libdir>/redpost0.3.2/pkgIndex.tcl, library one level up.
+# The package from an install layout: <libdir>/redpost0.4.0/pkgIndex.tcl, library one level up.
 check package.install_layout {
     set inst $::work/install/lib
-    file mkdir $inst/redpost0.3.2
-    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.3.2/
+    file mkdir $inst/redpost0.4.0
+    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.4.0/
     # The real file under the SONAME (in the build tree libredpost.so.0 is a symlink).
-    file copy [file join $::libdir libredpost.so.0.3.2] $inst/libredpost.so.0
+    file copy [file join $::libdir libredpost.so.0.4.0] $inst/libredpost.so.0
     set child [interp create]
     $child eval [list set auto_path [linsert [$child eval set auto_path] 0 $inst]]
     set v [$child eval {package require redpost; ::redpost::version}]
     set loaded [$child eval {info loaded}]
     interp delete $child
-    expr {$v eq "0.3.2" && [string match *install/lib/libredpost.so.0* $loaded]}
+    expr {$v eq "0.4.0" && [string match *install/lib/libredpost.so.0* $loaded]}
 }
 
 # --- usage errors ---------------------------------------------------------------------------------
@@ -116,8 +116,35 @@ check_error usage.count {::redpost::feed} * {wrong # args: should be "::redpost:
 check_error usage.placement {
     ::redpost::open -cell $cell -output $work -name X -placement {1 2 3}
 } {REDPOST USAGE} {-placement takes six numbers*}
+check_error usage.deflection {
+    ::redpost::open -cell $cell -output $work -name X -deflection sometimes
+} * {bad -deflection "sometimes": must be off, predict, or compensate}
+check_error error.cutting_without_model {
+    ::redpost::open -cell $cell -output $work -name X -cutting $work/cut.xml
+} {REDPOST RP_ERR_BAD_INPUT} {*no deflection prediction was asked*}
 check_error usage.reader_count {::redpost::reader_open} * {wrong # args*}
 check_error usage.no_reader {::redpost::reader_next rpreader99} {REDPOST NO_READER} *rpreader99*
+
+# --- the deflection (issue 20): -deflection compensate moves the cutting target ------------------
+
+file mkdir $work/deflection
+check deflection.compensate {
+    set ends {}
+    foreach mode {predict compensate} {
+        set d [::redpost::open -cell $cell -output $work/deflection -name D_$mode -plan local \
+            -deflection $mode -deflection-tol 0.02]
+        ::redpost::tool_change $d 1 MILL 16 0
+        ::redpost::spindle $d 8000 CW
+        ::redpost::feed $d 2000
+        ::redpost::linear_move $d -100 -300 60 0 0 1
+        ::redpost::linear_move $d -100 -320 60 0 0 1
+        lappend ends [lrange [dict get [::redpost::last_move $d] joints] 0 8]
+        ::redpost::close $d
+        ::redpost::free $d
+    }
+    # The compensated posture differs from the predicted one (the target moved by tenths of mm).
+    expr {[lindex $ends 0] ne [lindex $ends 1]}
+}
 
 # --- errors of the plugin ---------------------------------------------------------------------------
 
@@ -317,7 +344,7 @@ check interp.safe {
     set r [list [$safe eval ::redpost::version] [llength [$safe eval {info commands ::redpost::*}]]]
     interp delete $safe
     set r
-} {0.3.2 1}
+} {0.4.0 1}
 
 # --- the handlers, as NX calls them -------------------------------------------------------------------
 

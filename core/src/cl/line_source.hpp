@@ -54,7 +54,7 @@ class ClLineSource {
     // A UTF-8 byte order mark (Windows editors write one) is not part of the first record.
     if (line_number_ == 0 && line.compare(0, 3, "\xEF\xBB\xBF") == 0)
       line.erase(0, 3);
-    if (const std::size_t cr = line.find('\r'); cr != std::string::npos)
+    if (const std::size_t cr = line.find('\r'); cr != std::string::npos && !binary(line, cr))
       stray_cr(static_cast<int>(cr) + 1);
     ++line_number_;
     return true;
@@ -96,8 +96,20 @@ class ClLineSource {
                 SourceLocation{source_, line_number_ + 1, column});
   }
 
+  // Control bytes before `end` (a tab aside): binary data, a compressed file given by mistake,
+  // whose CR bytes are no line endings; the record parser names the first byte.
+  static bool binary(const std::string& line, std::size_t end) {
+    for (std::size_t i = 0; i < end; ++i) {
+      const auto u = static_cast<unsigned char>(line[i]);
+      if ((u < 0x20 && u != '\t') || u == 0x7f)
+        return true;
+    }
+    return false;
+  }
+
   [[noreturn]] void too_long(const std::string& line_so_far) const {
-    if (const std::size_t cr = line_so_far.find('\r'); cr != std::string::npos)
+    if (const std::size_t cr = line_so_far.find('\r');
+        cr != std::string::npos && !binary(line_so_far, cr))
       stray_cr(static_cast<int>(cr) + 1);
     throw Error(ErrorCode::bad_input,
                 "line longer than " + std::to_string(max_line_bytes_) +

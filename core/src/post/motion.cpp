@@ -190,6 +190,12 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
     p.feed_mm_per_min = feed_mm_per_min;
   // {base} -> {B} -> part: the TCP the controller is sent, in the CL frame.
   p.p_part_mm = o.T_B_part.inverse() * (o.T_B_base * m.T_base_tcp.translation());
+  // The move's deflection belongs to the motion at its end (not to the steps written before it).
+  if (move_deflection && m.kind == KrlMotionKind::lin && q == tracker.q()) {
+    p.has_deflection = true;
+    p.deflection = *move_deflection;
+    move_deflection.reset();
+  }
   if (const JointVector* plan = tracker.plan_target(); plan && o.on_motion) {
     p.planned = true;
     p.q_plan = *plan;
@@ -294,8 +300,13 @@ void PostSession::Impl::move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d&
     }
   }
   set_speed(feed_mm_per_min / 60000.0, true);
-  const TcpTarget target = target_in_B(p_mm, axis, cl_line);
-  track_line(target, cl_line, false);
+  const TcpTarget cam = target_in_B(p_mm, axis, cl_line);
+  // A drilling cycle's feed is axial: the side-milling force model has nothing to say of it.
+  TcpTarget target = cam;
+  if (deflection_on() && !cycle)
+    target = track_cut(cam, p_mm, cl_line);
+  else
+    track_line(cam, cl_line, false);
   emit_line(cl_line);
   last_target = target;
   remember_cl(p_mm, axis);
@@ -390,7 +401,10 @@ bool PostSession::Impl::track_line(const TcpTarget& target, int cl_line, bool ra
       }
     }
     if (r.status != PoseStatus::converged)
-      fail(r, cl_line, rapid ? "rapid" : "cutting move");
+      fail(r, cl_line,
+           rapid          ? "rapid"
+           : compensating ? "cutting move, its target moved against the arm's deflection"
+                          : "cutting move");
     record(r, cl_line);
     if (steps > 1)
       line_steps.push_back(r.q);
@@ -520,8 +534,10 @@ void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen
   // A feed arc in one plane with one tool axis may be one CIRC (circ.cpp).
   const bool planar = std::fabs(built.arc.h1 - built.arc.h0) < 1e-9 &&
                       built.arc.sweep_rad < 2.0 * 3.14159265358979323846 - 1e-6;
+  // Under the deflection model every chord is a cutting move with its own load and (under
+  // compensate) its own moved target: a CIRC has one end and one via point only.
   if (!rapid && !approach_pending && writer.has_circ() && planar && built.arc.chords > 1 &&
-      (tool_axis.normalized() - chord_axis).norm() < 1e-9) {
+      !deflection_on() && (tool_axis.normalized() - chord_axis).norm() < 1e-9) {
     next_rapid = false;
     if (try_circ(built.arc, chord_axis, cl_line))
       return;

@@ -54,6 +54,15 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
   if (!std::isnan(o.clearance_z_mm) && !std::isfinite(o.clearance_z_mm)) {
     throw Error(ErrorCode::bad_input, "the clearance height must be a finite number of mm");
   }
+  if (!std::isfinite(o.deflection_tolerance_mm) || !(o.deflection_tolerance_mm > 0.0)) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("the deflection tolerance must be a finite number of mm above 0, "
+                            "got {}",
+                            o.deflection_tolerance_mm));
+  }
+  check_deflection_inputs();
+  summary.deflection_mode = o.deflection;
+  summary.deflection_tolerance_mm = o.deflection_tolerance_mm;
   summary.joints.assign(static_cast<size_t>(c.size()), JointRange{});
   for (JointRange& r : summary.joints) {
     r.lowest = r.margin_lower = r.margin_upper = std::numeric_limits<double>::infinity();
@@ -232,6 +241,7 @@ void PostSession::tool_change(int number, const std::string& name, double diamet
   e.line = cl_line;
   if (defer(e))
     return;
+  impl_->tool_diameter_mm = diameter_mm;
   impl_->tool_change(number, name, length_mm, cl_line);
 }
 
@@ -271,6 +281,14 @@ void PostSession::spindle(double rpm, SpindleDirection direction) {
     return;
   impl_->writer.spindle(direction == SpindleDirection::off ? 0.0 : rpm,
                         direction != SpindleDirection::counter_clockwise);
+  Impl& m = *impl_;
+  if (direction == SpindleDirection::off || rpm == 0.0) {
+    m.spindle_state = Impl::Spindle::off;
+  } else {
+    m.spindle_state = Impl::Spindle::on;
+    m.spindle_rpm = rpm;
+    m.spindle_cw = direction != SpindleDirection::counter_clockwise;
+  }
 }
 
 void PostSession::feed(double mm_per_min, int cl_line) {
@@ -353,8 +371,18 @@ void PostSession::operation_start(const std::string& name) {
   if (defer(e))
     return;
   impl_->writer.comment("operation " + name);
+  impl_->operation_name = name;
+  ++impl_->operation_serial;
 }
-void PostSession::operation_end() {}
+void PostSession::operation_end() {
+  ClEvent e;
+  e.kind = ClEventKind::operation_end;
+  if (defer(e))
+    return;
+  // Moves after END-OF-PATH belong to no operation (the deflection's figures per operation).
+  impl_->operation_name.clear();
+  ++impl_->operation_serial;
+}
 void PostSession::comment(const std::string& text) {
   ClEvent e;
   e.kind = ClEventKind::comment;
@@ -400,6 +428,10 @@ const PostSummary& PostSession::prepare() {
                 SourceLocation{m.o.source_name, 0, 0});
   }
   m.finish_timing();
+  for (DeflectionStats& d : m.summary.deflection) {
+    d.rms_mm = std::sqrt(d.rms_mm / static_cast<double>(d.motions));
+    d.rms_normal_mm = std::sqrt(d.rms_normal_mm / static_cast<double>(d.motions));
+  }
   if (m.csv)
     m.csv->prepare();
   m.writer.prepare();

@@ -20,6 +20,7 @@
 #include "redpost/kinematics/arm_ik.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
+#include "redpost/machining/deflection.hpp"
 #include "redpost/post/session.hpp"
 #include "redpost/timing/path_timer.hpp"
 
@@ -108,6 +109,8 @@ struct PostSession::Impl {
     Eigen::Vector3d p_part_mm = Eigen::Vector3d::Zero();
     bool planned = false;  // the tracker followed the whole-path plan at this motion
     JointVector q_plan;    // ... and the plan's posture there
+    bool has_deflection = false;
+    MotionDeflection deflection;
   };
   std::unique_ptr<PathTimer> timer;
   std::deque<PendingMotion> pending;
@@ -130,6 +133,20 @@ struct PostSession::Impl {
   int slowdown_warnings = 0;
   long slowdown_groups = 0;
   JointVector fraction;
+
+  // The deflection under the cutting forces (deflection.cpp): what the CL file said of the
+  // tool, the spindle and the operation; the deflection of the move being written, for the
+  // motion at its end.
+  double tool_diameter_mm = std::numeric_limits<double>::quiet_NaN();
+  enum class Spindle { unknown, on, off } spindle_state = Spindle::unknown;
+  double spindle_rpm = std::numeric_limits<double>::quiet_NaN();
+  bool spindle_cw = true;
+  std::string operation_name;
+  long operation_serial = 0;  // operation_start calls so far
+  long stats_serial = -1;     // the operation summary.deflection.back() belongs to
+  bool compensating = false;  // track_line's messages name the compensation
+  std::optional<MotionDeflection> move_deflection;
+  KinematicsData deflection_data;
 
   // NX's MSYS, for the messages of an unreachable first pose.
   int msys_line = 0;
@@ -183,6 +200,17 @@ struct PostSession::Impl {
   void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis);
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+
+  // --- deflection.cpp ------------------------------------------------------------------------
+  bool deflection_on() const { return o.deflection != DeflectionMode::off; }
+  void check_deflection_inputs() const;
+  // Tracks a cutting move to the CL target `cam` (p_mm in CL coordinates), predicting its
+  // deflection and, under compensate, moving the target against it; returns the target tracked.
+  TcpTarget track_cut(const TcpTarget& cam, const Eigen::Vector3d& p_mm, int cl_line);
+  bool load_for_move(const TcpTarget& cam, const Eigen::Vector3d& p_mm, int cl_line,
+                     CuttingLoad& load);
+  ToolDeflection deflection_at(const JointVector& q, const CuttingLoad& load);
+  void note_deflection(const MotionDeflection& d, int cl_line);
 
   // --- timing.cpp ----------------------------------------------------------------------------
   void start_timing(const KrlTemplateSet& templates);

@@ -433,6 +433,7 @@ void PostSession::Impl::observe(const PendingMotion& p, const TimedMotion& t,
   s.limit_joint = mt.joint;
   s.speed_fraction = &fraction;
   s.q_plan = p.planned ? &p.q_plan : nullptr;
+  s.deflection = p.has_deflection ? &p.deflection : nullptr;
   o.on_motion(s);
 }
 

@@ -293,6 +293,22 @@ PoseResult Tracker::track(const TcpTarget& target) {
   return r;
 }
 
+PoseResult Tracker::correct(const TcpTarget& target) {
+  PoseResult r =
+      iterate(target, q_, nullptr, false, options_.max_iterations, scratch_valid_, scratch_);
+  check_jump(r);
+  scratch_valid_ = r.status == PoseStatus::converged;
+  if (r.status == PoseStatus::converged) {
+    q_ = r.q;
+    switch_.inv_kappa_at_start = r.inv_condition;
+    last_p_ = target.p_B_mm;
+    last_z_ = target.z_B;
+  } else {
+    r.q = q_;
+  }
+  return r;
+}
+
 Isometry Tracker::tcp_pose_at_q() const {
   return scratch_valid_ ? scratch_.data.T_B_tcp : tcp_pose(*cell_, q_);
 }

@@ -852,7 +852,10 @@ TEST_CASE("cell_xml: kr15_2 cell: six arm joints between base and tool frames") 
     CHECK(cell.joint(i).name == "theta_" + std::to_string(i + 1));
     CHECK(cell.joint(i).type == JointType::revolute);
     CHECK(axis_name(cell.joint(i).axis) == "A" + std::to_string(i + 1));
-    CHECK_FALSE(cell.joint(i).stiffness.has_value());
+    // Issue 20: half the KR270-2's of Caro Table 4.1 (docs/cells.md), in N mm/rad.
+    static const double kHalfCaro[6] = {0.1185, 1.66, 1.395, 0.243, 0.2605, 0.19};
+    REQUIRE(cell.joint(i).stiffness.has_value());
+    CHECK(*cell.joint(i).stiffness == Approx(kHalfCaro[i] * 1e9).epsilon(1e-12));
   }
   // theta_2 = A2, home -90 deg; theta_4 = A4 + 180 deg, A4 in [-350, 350].
   CHECK(cell.joint(1).home == Approx(deg(-90)).epsilon(1e-15));

@@ -21,11 +21,28 @@
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/tool_table.hpp"
 #include "redpost/krl/writer.hpp"
+#include "redpost/machining/cutting_conditions.hpp"
 #include "redpost/redundancy/path_plan.hpp"
 #include "redpost/redundancy/tracker.hpp"
 #include "redpost/timing/path_timer.hpp"
 
 namespace redpost {
+
+// The tool's deflection under the cutting force at the end of one cutting move
+// (docs/deflection.md), at the posture written there. Vectors in the CL (part) frame.
+struct MotionDeflection {
+  Eigen::Vector3d translation_mm = Eigen::Vector3d::Zero();  // of the TCP
+  Eigen::Vector3d rotation_rad = Eigen::Vector3d::Zero();    // small rotation vector
+  double normal_mm = 0.0;  // along the machined wall's normal: + the tool cuts too deep
+  double force_N = 0.0;    // the mean cutting force's magnitude
+  // How far the target was moved against the deflection (0 without compensation), and the error
+  // the model leaves at the written posture: the deflected TCP's distance from the CL point and
+  // its component along the wall's normal (without compensation: the deflection itself).
+  double compensation_mm = 0.0;
+  double residual_mm = 0.0;
+  double residual_normal_mm = 0.0;
+  int iterations = 0;  // of the compensation's fixed point (0 without)
+};
 
 // One motion as it is written, for a host that watches the run (the report of `redpost convert`).
 // The pointers are valid during the call only; nothing is allocated to make a sample.
@@ -57,12 +74,19 @@ struct MotionSample {
   // The whole-path plan's posture the tracker followed at this motion (docs/redundancy.md);
   // null where none was followed (--plan local, a stretch tracked pose by pose, PTP motions).
   const JointVector* q_plan = nullptr;
+  // The deflection at this motion (null where none was predicted: no prediction asked, a rapid,
+  // a PTP, a plunge, a drilling cycle, the spindle off, or a step written inside a longer move).
+  const MotionDeflection* deflection = nullptr;
 };
 
 // Called for every written motion, after it was written. Empty: no samples are made.
 using MotionObserver = std::function<void(const MotionSample&)>;
 
 enum class RedundancyPlan { local, global };
+
+// What the session does with the arm's compliance (docs/deflection.md): nothing, predict the
+// tool's deflection at every cutting move, or also move each target against it (a fixed point).
+enum class DeflectionMode { off, predict, compensate };
 
 struct PostOptions {
   KrlProgramInfo program;
@@ -102,6 +126,12 @@ struct PostOptions {
   PathPlanSettings plan_settings;
   double plan_horizon_mm = 800.0;  // path planned ahead before the first half is written
   double plan_follow_gain = 0.5;   // the tracker's pull towards the plan, per pose
+  // The deflection under the cutting forces (docs/deflection.md): the cell needs six joint
+  // stiffnesses; `cutting` gives what the force model needs beyond the CL file, per operation.
+  // The tolerance is the one the report draws the normal deflection against (mm).
+  DeflectionMode deflection = DeflectionMode::off;
+  CuttingTable cutting;
+  double deflection_tolerance_mm = 0.05;
   // Name of the CL source, for messages ("part.apt").
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
@@ -124,6 +154,26 @@ struct FeedLimit {
   TimingLimit limit = TimingLimit::axis_velocity;
   double lowest_mm_per_min = 0.0;
   double asked_mm_per_min = 0.0;
+};
+
+// The predicted deflection over one CL operation (docs/deflection.md): the cutting moves with a
+// load, the largest and RMS deflection and its normal component, and after compensation the
+// model's residual.
+struct DeflectionStats {
+  std::string operation;  // the CL operation's name ("" before any)
+  int first_line = 0, last_line = 0;
+  long motions = 0;  // cutting moves with a modelled load
+  double max_mm = 0.0, rms_mm = 0.0;
+  double max_normal_mm = 0.0, rms_normal_mm = 0.0;  // |normal component|
+  int max_normal_line = 0;
+  double max_rotation_rad = 0.0;
+  double max_force_N = 0.0;
+  long over_tolerance = 0;  // motions whose |normal component| passes the tolerance
+  // After compensation (equal to the above without it).
+  double max_residual_mm = 0.0;
+  double max_residual_normal_mm = 0.0;
+  long over_tolerance_after = 0;
+  double max_compensation_mm = 0.0;
 };
 
 struct PostSummary {
@@ -152,6 +202,14 @@ struct PostSummary {
   long plan_windows = 0;           // windows planned
   long plan_fallback_windows = 0;  // of them, tracked pose by pose (no sequence on the lattice)
   long plan_ik_evaluations = 0;    // lattice nodes solved (closed-form IK of one posture each)
+
+  // The deflection (PostOptions::deflection), per CL operation in order.
+  DeflectionMode deflection_mode = DeflectionMode::off;
+  double deflection_tolerance_mm = 0.0;
+  std::vector<DeflectionStats> deflection;
+  long unloaded_moves = 0;           // cutting moves without a modelled load (plunges, spindle off)
+  long compensation_iterations = 0;  // fixed-point iterations beyond the first, over the program
+  int max_compensation_iterations = 0;  // the most any move needed
 };
 
 class PostSession {

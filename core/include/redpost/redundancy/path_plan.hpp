@@ -68,8 +68,9 @@ struct PathPlanSettings {
   // w_compliance * c / compliance_ref_mm, c the tool's deflection normal to the feed and the
   // tool axis under a nominal cutting load, given by normal_deflection_mm (set by the session
   // from the elastostatic model; empty: no such term). Arguments: the posture, the feed
-  // direction and the tool axis (unit, in {B}).
-  double w_compliance = 1.0;
+  // direction and the tool axis (unit, in {B}). 0 but in the stiff preset: a cell's stiffness
+  // data must not move the axes of a plan that did not ask for it.
+  double w_compliance = 0.0;
   double compliance_ref_mm = 0.1;
   std::function<double(const JointVector&, const Eigen::Vector3d&, const Eigen::Vector3d&)>
       normal_deflection_mm;

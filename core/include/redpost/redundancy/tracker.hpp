@@ -93,6 +93,14 @@ class Tracker {
   // converged poses. The outcome does not depend on how a path is split into calls.
   std::size_t track(const TcpTarget* targets, std::size_t count, PoseResult* results);
 
+  // Moves the current posture onto `target`, a small correction of the last pose's target, by
+  // the minimum-norm steps of Algorithm 2 alone: no secondary goals, so no self-motion. The
+  // deflection compensation's fixed point (docs/deflection.md) moves a target by a fraction of a
+  // millimetre once its posture is known; a fresh track() would add a null-space step each time
+  // and the posture would wander along the self-motion instead of settling. On success the
+  // posture becomes the result (and the predictor takes `target` as the last pose's).
+  PoseResult correct(const TcpTarget& target);
+
   // Solves a target far from the current posture from several starts (the current posture, home
   // with the virtual joint turned in steps, seeded perturbations of home) without the jump bound,
   // and returns the converged posture within limits nearest home in the weighted metric. Does

@@ -1,0 +1,242 @@
+// The options of ::redpost::open (tcl_open_options.hpp), as `redpost convert` takes them.
+#include "tcl_open_options.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "tcl_args.hpp"
+
+#ifndef TCL_SIZE_MAX
+typedef int Tcl_Size;  // Tcl 8.6
+#endif
+
+namespace redpost::tcl {
+
+namespace {
+
+enum OpenOption {
+  o_cell,
+  o_krl,
+  o_output,
+  o_name,
+  o_joints,
+  o_source,
+  o_base,
+  o_tool,
+  o_apo,
+  o_split,
+  o_placement,
+  o_cl_line_every,
+  o_chordal,
+  o_tools,
+  o_clearance,
+  o_rapid_vel,
+  o_max_bytes,
+  o_plan,
+  o_preset,
+  o_keyframe_spacing,
+  o_lock,
+  o_deflection,
+  o_cutting,
+  o_deflection_tol
+};
+
+// The deflection options of ::redpost::open (docs/deflection.md), as `redpost convert`'s
+// --predict-deflection, --compensate, --cutting and --deflection-tol.
+int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
+  switch (index) {
+    case o_deflection: {
+      static const char* const kModes[] = {"off", "predict", "compensate", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kModes, "-deflection", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.deflection = k == 2   ? RP_DEFLECTION_COMPENSATE
+                       : k == 1 ? RP_DEFLECTION_PREDICT
+                                : RP_DEFLECTION_OFF;
+      break;
+    }
+    case o_cutting:
+      opt.cutting_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_deflection_tol:
+      return get_double(interp, v, "-deflection-tol", &opt.deflection_tolerance_mm);
+    default:
+      break;
+  }
+  return TCL_OK;
+}
+
+// One word of -lock: "E<n>" holds external axis n where the first pose puts it, "E<n>=<value>"
+// at that value (mm or deg), as `redpost convert --lock` does.
+int lock_option(Tcl_Interp* interp, Tcl_Obj* word, rp_options& opt) {
+  const std::string text = Tcl_GetString(word);
+  const std::size_t eq = text.find('=');
+  const std::string axis = text.substr(0, eq);
+  if (axis.size() != 2 || (axis[0] != 'E' && axis[0] != 'e') || axis[1] < '1' || axis[1] > '6') {
+    Tcl_SetObjResult(interp, Tcl_ObjPrintf("-lock \"%s\": name an external axis E1..E6, e.g. "
+                                           "-lock {E1=500 E2}",
+                                           text.c_str()));
+    Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+    return TCL_ERROR;
+  }
+  const int k = axis[1] - '1';
+  opt.lock_mask |= 1u << k;
+  if (eq == std::string::npos)
+    return TCL_OK;
+  Tcl_Obj* value = Tcl_NewStringObj(text.c_str() + eq + 1, -1);
+  Tcl_IncrRefCount(value);
+  const int rc = get_double(interp, value, "-lock", &opt.lock_value[k]);
+  Tcl_DecrRefCount(value);
+  if (rc == TCL_OK && !std::isfinite(opt.lock_value[k])) {
+    Tcl_SetObjResult(interp, Tcl_ObjPrintf("-lock \"%s\": the value is not a finite number (mm or "
+                                           "deg)",
+                                           text.c_str()));
+    Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+    return TCL_ERROR;
+  }
+  return rc;
+}
+
+}  // namespace
+
+const char* const kOpenUsage =
+    "-cell CELL.xml -output DIR -name NAME ?-krl SET.xml? ?-joints-csv FILE? ?-source NAME? "
+    "?-base EXPR? ?-tool EXPR? ?-placement {x y z a b c}? ?-apo MM? ?-split N? "
+    "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
+    "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
+    "?-lock {E1=500 E2 ...}? ?-deflection off|predict|compensate? ?-cutting FILE? "
+    "?-deflection-tol MM?";
+
+// The options of ::redpost::open, in the order of kOpenOptions.
+const char* const kOpenOptions[] = {
+    "-cell",        "-krl",        "-output",    "-name",
+    "-joints-csv",  "-source",     "-base",      "-tool",
+    "-apo",         "-split",      "-placement", "-cl-line-every",
+    "-chordal-tol", "-tools",      "-clearance", "-rapid-vel",
+    "-max-bytes",   "-plan",       "-preset",    "-keyframe-spacing",
+    "-lock",        "-deflection", "-cutting",   "-deflection-tol",
+    nullptr};
+// One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
+// duration of rp_open).
+int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
+  switch (index) {
+    case o_cell:
+      opt.cell_path = Tcl_GetString(v);
+      break;
+    case o_krl:
+      opt.krl_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_output:
+      opt.output_dir = Tcl_GetString(v);
+      break;
+    case o_name:
+      opt.program_name = Tcl_GetString(v);
+      break;
+    case o_joints:
+      opt.joints_csv_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_source:
+      opt.source_name = Tcl_GetString(v);
+      break;
+    case o_base:
+      opt.base = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_tools:
+      opt.tools_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_clearance:
+      if (*Tcl_GetString(v)) {  // empty: none
+        if (get_double(interp, v, "-clearance", &opt.clearance_z_mm) != TCL_OK)
+          return TCL_ERROR;
+        opt.has_clearance = 1;
+      }
+      break;
+    case o_rapid_vel:
+      if (get_double(interp, v, "-rapid-vel", &opt.rapid_velocity_m_per_s) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_max_bytes: {
+      Tcl_WideInt n = 0;
+      if (Tcl_GetWideIntFromObj(interp, v, &n) != TCL_OK)
+        return TCL_ERROR;
+      opt.max_file_bytes = static_cast<long>(n);
+      break;
+    }
+    case o_tool:
+      opt.tool = Tcl_GetString(v);
+      break;
+    case o_plan: {
+      static const char* const kPlans[] = {"global", "local", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kPlans, "-plan", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.plan = k == 0 ? RP_PLAN_GLOBAL : RP_PLAN_LOCAL;
+      break;
+    }
+    case o_preset: {
+      static const char* const kPresets[] = {"smooth", "stiff", "fast", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kPresets, "-preset", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.plan_preset = k == 1 ? RP_PLAN_STIFF : k == 2 ? RP_PLAN_FAST : RP_PLAN_SMOOTH;
+      break;
+    }
+    case o_keyframe_spacing:
+      if (get_double(interp, v, "-keyframe-spacing", &opt.keyframe_spacing_mm) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_lock: {
+      Tcl_Size n = 0;
+      Tcl_Obj** items = nullptr;
+      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+        return TCL_ERROR;
+      for (Tcl_Size k = 0; k < n; ++k) {
+        if (lock_option(interp, items[k], opt) != TCL_OK)
+          return TCL_ERROR;
+      }
+      break;
+    }
+    case o_apo:
+      if (get_double(interp, v, "-apo", &opt.apo_mm) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_split:
+      if (get_int(interp, v, "-split", &opt.motions_per_file) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_cl_line_every:
+      if (get_int(interp, v, "-cl-line-every", &opt.cl_line_every) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_chordal:
+      if (get_double(interp, v, "-chordal-tol", &opt.chordal_tolerance_mm) != TCL_OK)
+        return TCL_ERROR;
+      break;
+    case o_placement: {
+      Tcl_Size n = 0;
+      Tcl_Obj** items = nullptr;
+      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+        return TCL_ERROR;
+      if (n == 0)
+        break;  // empty: no placement
+      if (n != 6) {
+        Tcl_SetObjResult(interp,
+                         Tcl_ObjPrintf("-placement takes six numbers {x y z a b c}, got \"%s\"",
+                                       Tcl_GetString(v)));
+        Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+        return TCL_ERROR;
+      }
+      for (int k = 0; k < 6; ++k) {
+        if (get_double(interp, items[k], "-placement", &opt.placement[k]) != TCL_OK)
+          return TCL_ERROR;
+      }
+      opt.has_placement = 1;
+      break;
+    }
+    default:
+      return deflection_option(interp, index, v, opt);
+  }
+  return TCL_OK;
+}
+
+}  // namespace redpost::tcl
