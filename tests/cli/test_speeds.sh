@@ -147,6 +147,8 @@ for f in "$SRC"/examples/cl/*; do
   name=comp_$(basename "$f")
   speeds "$name" "$f" --compensate
   expect_out "deflection under the cutting force (compensated"
+  head -1 "$TMP/$name/joints.csv" | grep -q ',deflection_normal_mm,cutting_force_N,' ||
+    fail "$name: the joints log has no deflection columns"
   $py "$SRC/tests/cli/machine_check.py" statements "$TMP/$name" >"$TMP/check" 2>&1 ||
     fail "$name: $(cat "$TMP/check")"
   for variant in again pred plain; do

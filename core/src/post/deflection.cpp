@@ -124,7 +124,7 @@ TcpTarget PostSession::Impl::track_cut(const TcpTarget& cam, const Eigen::Vector
       const PoseResult r = tracker.correct(next);
       if (r.status != PoseStatus::converged)
         fail(r, cl_line, "cutting move, its target moved against the arm's deflection");
-      record(r, cl_line);
+      record(r, cl_line, false);
       if (!line_steps.empty())
         line_steps.back() = r.q;
       target = next;
@@ -160,7 +160,7 @@ void PostSession::Impl::note_deflection(const MotionDeflection& d, int cl_line) 
     stats_serial = operation_serial;
   }
   DeflectionStats& s = summary.deflection.back();
-  // rms_* hold the sums of squares until finish_deflection() turns them into RMS values.
+  // rms_* hold the sums of squares until prepare() turns them into RMS values.
   const double n = std::fabs(d.normal_mm), after = std::fabs(d.residual_normal_mm);
   const double tol = o.deflection_tolerance_mm;
   ++s.motions;

@@ -131,8 +131,8 @@ void PostSession::Impl::fail(const PoseResult& r, int cl_line, const char* what)
 }
 
 // --- what is written -------------------------------------------------------------------------
-void PostSession::Impl::record(const PoseResult& r, int cl_line) {
-  ++summary.poses;
+void PostSession::Impl::record(const PoseResult& r, int cl_line, bool new_pose) {
+  summary.poses += new_pose ? 1 : 0;
   last = r;
   if (r.inv_condition < summary.lowest_inv_condition) {
     summary.lowest_inv_condition = r.inv_condition;

@@ -79,6 +79,12 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
         fmt::format_to(std::back_inserter(line), ",{}", axis_name(c.joint(i).axis));
       }
     }
+    // With the deflection model, each motion's predicted deflection (docs/deflection.md).
+    if (o.deflection != DeflectionMode::off) {
+      fmt::format_to(std::back_inserter(line),
+                     ",deflection_x_mm,deflection_y_mm,deflection_z_mm,deflection_normal_mm,"
+                     "cutting_force_N,compensation_mm,residual_mm");
+    }
     line.push_back('\n');
     csv->write(line);
   }

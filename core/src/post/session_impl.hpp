@@ -175,7 +175,9 @@ struct PostSession::Impl {
   // --- motion.cpp ----------------------------------------------------------------------------
   [[noreturn]] void fail(const PoseResult& r, int cl_line, const char* what);
   std::string first_pose_advice() const;
-  void record(const PoseResult& r, int cl_line);
+  // A posture tracked: counted (unless it corrects the last one, as the deflection compensation
+  // does) and taken into the joint ranges and the conditioning.
+  void record(const PoseResult& r, int cl_line, bool new_pose = true);
   void emit(KrlMotionKind kind, const JointVector& q, int cl_line);
   KrlMotion motion_at(KrlMotionKind kind, const JointVector& q, int cl_line);
   void after_write(const KrlMotion& m, const JointVector& q, const TimedMotion& t);

@@ -363,6 +363,18 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
       if (cell.joint(i).axis.mapped())
         fmt::format_to(std::back_inserter(line), ",{:.6f}", to_axis_value(cell.joint(i), p.q[i]));
     }
+    if (o.deflection != DeflectionMode::off) {
+      // "nan" where no load was modelled (a rapid, a PTP, a plunge, a step inside a move).
+      const MotionDeflection& d = p.deflection;
+      if (p.has_deflection) {
+        fmt::format_to(std::back_inserter(line),
+                       ",{:.5f},{:.5f},{:.5f},{:.5f},{:.2f},{:.5f},{:.5f}", d.translation_mm.x(),
+                       d.translation_mm.y(), d.translation_mm.z(), d.normal_mm, d.force_N,
+                       d.compensation_mm, d.residual_mm);
+      } else {
+        fmt::format_to(std::back_inserter(line), ",nan,nan,nan,nan,nan,nan,nan");
+      }
+    }
     line.push_back('\n');
     csv->write(line);
   }
