@@ -95,8 +95,10 @@ def check_ptps(src, csv, cl_file, redpost, cell, reference_length):
     program = Path(src).read_text()
     rows = [line.split(",") for line in Path(csv).read_text().splitlines()]
     header, rows = rows[0], [[float(v) for v in r] for r in rows[1:]]
-    joints = [i for i, h in enumerate(header)
-              if h not in ("pose", "cl_line", "time_s") and not re.match(r"^[AE]\d$", h)]
+    # The joints are the columns between time_s and the first controller axis; with the
+    # deflection model more columns follow the axes (docs/deflection.md).
+    first_axis = next(i for i, h in enumerate(header) if re.match(r"^[AE]\d$", h))
+    joints = list(range(header.index("time_s") + 1, first_axis))
     axis_col = {h: i for i, h in enumerate(header) if re.match(r"^[AE]\d$", h)}
     lengths = tool_lengths(cl_file)
     hole_points = holes(cl_file)

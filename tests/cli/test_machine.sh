@@ -123,4 +123,16 @@ for name in swcam_drill_cycles.apt swcam_gasket_circles.apt; do
 done
 passed
 
+begin "compensated against the arm's deflection (issue 20): the PTPs still keep to the holes' axes"
+name=swcam_gasket_circles.apt
+mkdir -p "$TMP/comp_$name"
+run convert "$eval_dir/apt/$name" --cell "$cell" -o "$TMP/comp_$name" --name EVAL --compensate \
+  --joints-csv "$TMP/comp_joints.csv" -q
+expect_rc 0
+$py "$check_py" ptps "$TMP/comp_$name/EVAL.src" "$TMP/comp_joints.csv" "$eval_dir/apt/$name" \
+  "$BIN" "$cell" 119.7 >"$TMP/out" 2>&1 || fail "compensated $name: $(cat "$TMP/out")"
+echo "cli.machine: compensated $name: $(cat "$TMP/out")"
+$py "$check_py" statements "$TMP/comp_$name" >"$TMP/out" 2>&1 || fail "compensated $name: $(cat "$TMP/out")"
+passed
+
 echo "cli.machine: $checks checks passed"
