@@ -56,6 +56,7 @@ struct PlanArgs {
   double retract_mm = 100.0;
   std::string tool = "TOOL_DATA[2]";
   std::string base = "BASE_DATA[1]";
+  std::string report;  // plan only: the HTML report with the 3D view
 };
 
 struct SimulateArgs {
@@ -192,11 +193,26 @@ std::vector<CalibrationPoint> planned_points(const PlanArgs& args, const Cell& c
 }
 
 int run_plan(const PlanArgs& args) {
+  if (!args.report.empty()) {
+    check_output_target(args.report, "--report");
+    check_output_folder(args.report, "--report");
+    check_distinct_files({{"--cell", args.cell_path}}, {{"--report", args.report}});
+  }
   const Cell cell = load_cell(args.cell_path);
   const CalibrationPlanOptions opt = plan_options(args, cell);
   const KrlTemplateSet templates =
       load_krl_templates(args.templates.empty() ? default_krl_template() : args.templates);
   const std::vector<CalibrationPoint> points = planned_points(args, cell, opt);
+  // Made before anything is written: a report that cannot be made leaves DIR as it was.
+  std::string report;
+  if (!args.report.empty()) {
+    CalibrationPlanReportInput in;
+    in.cell_path = args.cell_path;
+    in.cell = &cell;
+    in.points = &points;
+    in.configurations = args.validation > 0 ? 0 : opt.configurations.size();
+    report = calibration_plan_report_html(in);
+  }
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec)
@@ -232,6 +248,10 @@ int run_plan(const PlanArgs& args) {
                opt.configurations.size(), opt.grid, opt.grid, path);
   for (const std::string& src : programs)
     fmt::print("KRL program: {}\n", src);
+  if (!args.report.empty()) {
+    write_text_file(args.report, report);
+    fmt::print("report: {}\n", args.report);
+  }
   // Points that run a joint close to its limit are legal but leave no room for the error being
   // calibrated: say which, so that they are watched in T1 first.
   std::string near;
@@ -555,6 +575,9 @@ Runner add_calibrate_command(CLI::App& app) {
                 "(default 100)");
   p->add_option("--tool", plan->tool, "$TOOL of the laser sensor (default TOOL_DATA[2])");
   p->add_option("--base", plan->base, "$BASE (default BASE_DATA[1])");
+  p->add_option("--report", plan->report,
+                "Write an HTML report: the points per plane and configuration, and the cell in 3D "
+                "visiting every point over the three planes");
 
   CLI::App* s = c->add_subcommand(
       "simulate", "Synthetic readings of the plan from a perturbed 'true' cell, for trials");

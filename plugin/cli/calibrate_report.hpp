@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "redpost/calibration/identification.hpp"
+#include "redpost/calibration/plan.hpp"
 #include "redpost/calibration/validation.hpp"
+#include "redpost/kinematics/cell.hpp"
 
 namespace redpost::cli {
 
@@ -23,5 +25,16 @@ struct CalibrationReportInput {
 
 // Writes the report (atomically). Throws Error(io) when it cannot be written.
 void write_calibration_report(const std::string& path, const CalibrationReportInput& in);
+
+// The report of `redpost calibrate plan --report` (issue 21): the points per plane and
+// configuration, those near a joint limit, and the cell in 3D visiting every point over the
+// three measurement planes.
+struct CalibrationPlanReportInput {
+  std::string cell_path;
+  const Cell* cell = nullptr;
+  const std::vector<CalibrationPoint>* points = nullptr;
+  std::size_t configurations = 0;  // 0: validation points (random external joints)
+};
+std::string calibration_plan_report_html(const CalibrationPlanReportInput& in);
 
 }  // namespace redpost::cli

@@ -287,17 +287,6 @@ int report(rp_status status, const std::string& message) {
   return kExitBadInput;
 }
 
-// The report is written after the program: a folder that cannot take it must stop the run
-// before the conversion, not after it with the program written and exit code 2.
-void check_report_folder(const std::string& path) {
-  const std::filesystem::path p(path), folder = p.has_parent_path() ? p.parent_path() : ".";
-  std::error_code ec;
-  if (!std::filesystem::is_directory(folder, ec) || ::access(folder.c_str(), W_OK) != 0) {
-    throw BadArgument{"redpost: " + path + ": --report: the folder '" + folder.string() +
-                      "' does not exist or is not writable; create it or choose another path"};
-  }
-}
-
 // Outputs that would destroy an input or each other, and a --report that is not a regular file,
 // are refused before anything is read (the library checks the program and the joints CSV too,
 // but does not know the report, and names the options as a C host sees them).
@@ -374,8 +363,10 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
 
 int run_convert(const ConvertOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
+  // The report is written after the program: a folder that cannot take it must stop the run
+  // before the conversion, not after it with the program written and exit code 2.
   if (!opt.report_html.empty())
-    check_report_folder(opt.report_html);
+    check_output_folder(opt.report_html, "--report");
   const std::string name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
   rp_options o;
   session_options(opt, name, o);

@@ -8,11 +8,13 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "convert_report_deflection.hpp"
+#include "convert_report_scene.hpp"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/report/html_report.hpp"
@@ -166,6 +168,8 @@ struct ConvertReport::Impl {
   long motions = 0;
   // The deflection under the cutting force (docs/deflection.md): its own section.
   DeflectionTrace deflection{kBuckets};
+  // The 3D view (convert_report_scene.hpp); made once the session's cell is known.
+  std::optional<SceneTrace> scene;
 
   // The value of joint i as the robot programmer reads it, in the units rp_joint_range uses.
   double value_of(const rp_motion& m, std::size_t i) const {
@@ -203,6 +207,7 @@ struct ConvertReport::Impl {
             std::max(plan_deviation[i], scale * std::fabs(m.joints[i] - m.planned_joints[i]));
     }
     deflection.on_motion(m);
+    scene->on_motion(m);
   }
 
   static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
@@ -228,6 +233,7 @@ ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>
     impl_->written_dh.emplace_back(kBuckets);
     impl_->plan_deviation.push_back(0.0);
   }
+  impl_->scene.emplace(session);
   if (rp_set_motion_observer(session, &Impl::observe, impl_.get()) != RP_OK) {
     throw Error(ErrorCode::internal,
                 std::string("cannot watch the motions for the report: ") + rp_last_error(session));
@@ -611,6 +617,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     add_solver_and_feed_section(r, d);
     d.deflection.add_section(r, session, motion_axis(d.motions));
     add_toolpath_section(r, d);
+    d.scene->add_section(r, session);
     count_warnings(r, run_total, run_shown);
     return r.html();
   } catch (const Error&) {

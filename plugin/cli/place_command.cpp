@@ -309,6 +309,7 @@ int run_place(const PlaceArgs& args) {
     in.study = &st;
     in.map_best = &map_best;
     in.map_worst = &map_worst;
+    in.q_path = &q_path;
     in.seconds = seconds;
     files.push_back({args.report, placement_report_html(in)});
   }

@@ -7,13 +7,18 @@
 
 #include <fmt/format.h>
 
+#include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/report/html_report.hpp"
+#include "redpost/report/scene3d.hpp"
+#include "scene_cell.hpp"
 
 namespace redpost::cli {
 
 namespace {
 
 namespace rep = redpost::report;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double theta_deg(const Placement& p) {
   const double q1 = std::sqrt(std::max(0.0, 1.0 - p.q4 * p.q4));
@@ -234,6 +239,63 @@ void add_top_view_section(rep::HtmlReport& html, const PlacementReportInput& in)
   html.add_plot(std::move(view));
 }
 
+// The cell at the best placement running its best spin plan: the program `place` writes. The
+// TCP the page checks its kinematics against is this side's forward kinematics of each posture.
+void add_scene_section(rep::HtmlReport& html, const PlacementReportInput& in) {
+  if (!in.q_path || in.q_path->empty())
+    return;
+  const PlacementProblem& pb = *in.problem;
+  const Cell& cell = pb.cell();
+  const SpinPlan& plan = in.study->cases[0];
+  const Isometry T_B_W = cell.T_B_0 * workpiece_frame(in.study->best.placement);
+  const Isometry T_W_B = T_B_W.inverse();
+  std::vector<rep::SceneQuantity> quantities(3);
+  quantities[0] = {"c_i (eq. 5.1)", "mm", false, pb.job().constraints.c_max_mm, "c_max"};
+  quantities[1] = {"1/kappa_F", "", true, pb.job().constraints.inv_kappa_min, "the minimum"};
+  quantities[2] = {"closest joint limit", "% of the joint's range", true, 10.0, "limit zone"};
+  rep::Scene3dRecorder rec(scene_cell_of(cell, T_B_W), quantities);
+  for (std::size_t i = 0; i < in.q_path->size() && i < pb.path().size(); ++i) {
+    const JointVector& q = (*in.q_path)[i];
+    const int seg = pb.path()[i].segment;
+    Vector6d w_B;
+    Eigen::Vector3d y_B;
+    pb.point_load(T_B_W, static_cast<int>(i), w_B, y_B);
+    double values[3];
+    values[1] = kNaN;
+    pb.deflection_mm(q, w_B, y_B, &values[1]);
+    values[0] = in.map_best->c(static_cast<int>(i), plan.beta_index[i],
+                               plan.mu[static_cast<std::size_t>(seg)]);
+    values[2] = kNaN;
+    for (int k = 0; k < cell.size(); ++k) {
+      const Joint& j = cell.joint(k);
+      if (j.type == JointType::virtual_spin || !(j.upper > j.lower))
+        continue;
+      const double share = 100.0 * std::min(q[k] - j.lower, j.upper - q[k]) / (j.upper - j.lower);
+      values[2] = std::isnan(values[2]) ? share : std::min(values[2], share);
+    }
+    const Eigen::Vector3d tcp_W = T_W_B * tcp_pose(cell, q).translation();
+    rep::SceneMotion m;
+    m.index = static_cast<long>(i) + 1;
+    m.cl_line = static_cast<int>(i) + 1;
+    m.q = q.data();
+    m.joint_count = static_cast<int>(q.size());
+    m.tool_length_mm = cell.tools.reference_length_mm;
+    for (int k = 0; k < 3; ++k)
+      m.tcp_part_mm[k] = tcp_W[k];
+    m.values = values;
+    rec.add(m);
+  }
+  html.add_section("The cell in 3D: the best placement and its best spin plan");
+  html.add_paragraph(
+      "The cell drawn from its DH chain at the joints of the program written (the best "
+      "placement's best plan, one motion per path point), with the workpiece's tool path on the "
+      "table, coloured by c_i, 1/kappa_F or "
+      "the closest joint limit.");
+  rep::Scene3d scene = rec.scene("The cell in 3D");
+  scene.line_label = "path point";
+  html.add_scene3d(scene);
+}
+
 }  // namespace
 
 std::string placement_report_html(const PlacementReportInput& in) {
@@ -243,6 +305,7 @@ std::string placement_report_html(const PlacementReportInput& in) {
   add_cost_maps_section(html, in);
   add_optimiser_section(html, *in.study);
   add_top_view_section(html, in);
+  add_scene_section(html, in);
   return html.html();
 }
 

@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 4
+#define REDPOST_VERSION_MINOR 5
 #define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.4.0"
+#define REDPOST_VERSION "0.5.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -124,7 +124,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.4.0". */
+/* The library's version, e.g. "0.5.0". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -255,6 +255,9 @@ typedef struct rp_motion {
   double residual_mm;                /* the model's error left at the written posture */
   double residual_normal_mm;         /* ... along the wall's normal */
   int compensation_iterations;       /* of the fixed point (0 without compensation) */
+  /* Appended in 0.5 (docs/reports.md, the 3D view): the tool in force at this motion. */
+  double tool_length_mm; /* from the spindle's gauge line to the tip; NaN: unknown */
+  double tcp_shift_mm;   /* its TCP beyond the chain's TCP (rp_cell_info), along -z of that frame */
 } rp_motion;
 
 /* Called once per written motion, once it is timed, on the thread that sent an event. The
@@ -336,6 +339,48 @@ typedef struct rp_deflection_info {
 } rp_deflection_info;
 /* RP_ERR_BAD_INPUT past the last one. */
 RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_deflection_info* info);
+
+/* --- The cell's model, for a host that draws it (added in 0.5) ------------------------------- */
+
+/* Rigid transforms are 12 doubles, row-major 3x4: the rotation's rows, each followed by the
+ * translation's component (mm). */
+typedef enum rp_joint_type {
+  RP_JOINT_REVOLUTE = 0,
+  RP_JOINT_PRISMATIC = 1,
+  RP_JOINT_VIRTUAL = 2 /* the tool's free spin: revolute, never sent to a controller */
+} rp_joint_type;
+
+/* The session's cell as a chain (docs/conventions.md): {B} -> T_B_0 -> link 0 -> ... -> link n-1
+ * -> T_last_tcp -> the chain's TCP. The workpiece (CL) frame is T_B_part in {B}. */
+typedef struct rp_cell_info {
+  unsigned struct_size; /* set to sizeof(rp_cell_info) before the call */
+  int joint_count;
+  double T_B_0[12];
+  double T_last_tcp[12];
+  double T_B_part[12];
+  double reference_tool_length_mm; /* the tool length the chain's TCP stands for; NaN: none */
+  int coupled_base_joint;          /* chain index of the turntable that carries the base; -1 */
+  int robroot_joint;               /* chain index of the track that carries the robot; -1 */
+} rp_cell_info;
+RP_API rp_status rp_cell_info_get(const rp_session* session, rp_cell_info* info);
+
+/* Link number index (0-based, chain order). Standard DH: Rz(theta) Tz(d) Tx(a) Rx(alpha);
+ * modified: Rx(alpha) Tx(a) Rz(theta) Tz(d); a revolute (virtual) joint adds q to theta, a
+ * prismatic one to d; T_prev_link comes before the link. RP_ERR_BAD_INPUT past the last. */
+typedef struct rp_link_info {
+  unsigned struct_size;  /* set to sizeof(rp_link_info) before the call */
+  const char* name;      /* valid while the session lives */
+  const char* axis_name; /* "A1".."A6", "E1".."E6", or "none" (a static string) */
+  rp_joint_type type;
+  int modified_dh; /* 1: modified (Khalil-Kleinfinger), 0: standard */
+  double alpha_rad, a_mm, theta_rad, d_mm;
+  double T_prev_link[12]; /* the identity when the chain gives no fixed transform */
+  double lower, upper;    /* joint limits, DH units (rad, mm) */
+  /* The controller value is axis_sign * q + axis_offset (q in deg or mm); 0 and 0 without an
+   * axis. */
+  double axis_sign, axis_offset;
+} rp_link_info;
+RP_API rp_status rp_link_get(const rp_session* session, int index, rp_link_info* info);
 
 /* Warning number index (0-based) of the session, or NULL past the end. */
 RP_API const char* rp_warning(const rp_session* session, int index);

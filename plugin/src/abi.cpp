@@ -155,19 +155,6 @@ void set_deflection_options(const rp_options& o, PostOptions& post) {
 
 }  // namespace redpost::abi
 
-namespace {
-
-// "A1".."E6" or "none" as a static string: valid whatever happens to the session.
-const char* static_axis_name(const redpost::ControllerAxis& axis) {
-  static const char* const kAxisNames[] = {"A1", "A2", "A3", "A4", "A5", "A6",
-                                           "E1", "E2", "E3", "E4", "E5", "E6"};
-  if (!axis.mapped() || axis.number < 1 || axis.number > 6)
-    return "none";
-  return kAxisNames[(axis.kind == redpost::AxisKind::external ? 6 : 0) + axis.number - 1];
-}
-
-}  // namespace
-
 using namespace redpost::abi;
 
 extern "C" {
@@ -281,6 +268,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
       post.T_B_part =
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
     }
+    s->T_B_part = post.T_B_part;
     set_plan_options(o, s->cell, post);
     set_deflection_options(o, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
@@ -610,6 +598,8 @@ RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer 
         out.residual_normal_mm = d->residual_normal_mm;
         out.compensation_iterations = d->iterations;
       }
+      out.tool_length_mm = m.tool_length_mm;
+      out.tcp_shift_mm = m.tcp_shift_mm;
       fn(&out, user);
     });
   });

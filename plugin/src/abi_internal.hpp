@@ -101,6 +101,15 @@ inline Eigen::Vector3d vec(double x, double y, double z) {
   return Eigen::Vector3d(x, y, z);
 }
 
+// "A1".."E6" or "none" as a static string: valid whatever happens to the session.
+inline const char* static_axis_name(const redpost::ControllerAxis& axis) {
+  static const char* const kAxisNames[] = {"A1", "A2", "A3", "A4", "A5", "A6",
+                                           "E1", "E2", "E3", "E4", "E5", "E6"};
+  if (!axis.mapped() || axis.number < 1 || axis.number > 6)
+    return "none";
+  return kAxisNames[(axis.kind == redpost::AxisKind::external ? 6 : 0) + axis.number - 1];
+}
+
 }  // namespace redpost::abi
 
 struct rp_session {
@@ -110,6 +119,7 @@ struct rp_session {
   // The cell and templates outlive the PostSession, which holds references to them.
   redpost::Cell cell;
   redpost::KrlTemplateSet templates;
+  redpost::Isometry T_B_part = redpost::Isometry::Identity();  // the CL frame in {B}
   std::unique_ptr<redpost::PostSession> post;
   State state = State::open;
   long events = 0;  // events sent so far, refused ones included

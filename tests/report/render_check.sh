@@ -4,7 +4,7 @@
 #   - the page script ran to its end (it marks <html data-report-ready="N">),
 #   - the DOM holds exactly EXPECTED <svg class="plot"> elements,
 #   - the file refers to nothing outside itself (no http(s) URLs but the SVG namespace),
-#   - the screenshot is not blank (PNG decoded with python3's zlib, no extra packages).
+#   - the screenshot is not blank (PNG decoded by png_image.py: python3's zlib, no extra packages).
 # Usage: render_check.sh REPORT.html EXPECTED_SVG_COUNT OUT.png [WINDOW_HEIGHT]
 # Exit 0 = pass, 1 = fail, 77 = skipped (no chromium; REDPOST_CHROMIUM overrides the binary).
 set -u
@@ -30,14 +30,18 @@ fi
 command -v python3 >/dev/null || { echo "SKIP: python3 is not installed"; exit 77; }
 [ -f "$html" ] || { echo "FAIL: no report at $html" >&2; exit 1; }
 
+here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT INT TERM
 abs=$(cd "$(dirname "$html")" && pwd)/$(basename "$html")
 
-# Each run gets a new, empty profile; nothing is fetched, synced or updated.
+# Each run gets a new, empty profile; nothing is fetched, synced or updated. The reports' 3D view
+# draws with WebGL: without a GPU Chromium renders it with SwiftShader, and says nothing about it
+# only when asked for it by these flags (else it logs a deprecation warning per context).
 run_chromium() {
   profile=$(mktemp -d "$work/profile.XXXXXX")
-  timeout 90 "$browser" --headless --no-sandbox --disable-gpu --no-first-run \
+  timeout 90 "$browser" --headless --no-sandbox --use-angle=swiftshader \
+    --enable-unsafe-swiftshader --no-first-run \
     --disable-background-networking --disable-component-update --disable-sync \
     --user-data-dir="$profile" --hide-scrollbars --enable-logging=stderr --v=0 "$@"
 }
@@ -52,8 +56,12 @@ run_chromium --window-size=1366,"$height" --dump-dom "file://$abs" \
 rc=$?
 [ $rc -eq 0 ] || { echo "FAIL: chromium --dump-dom exited with $rc" >&2; cat "$work/dom.err" >&2; exit 1; }
 
-python3 - "$html" "$work/dom.html" "$expected" "$png" "$work/shot.err" "$work/dom.err" <<'PY'
-import re, struct, sys, zlib
+python3 - "$here" "$html" "$work/dom.html" "$expected" "$png" "$work/shot.err" "$work/dom.err" <<'PY'
+import re, sys
+
+sys.dont_write_bytecode = True
+sys.path.insert(0, sys.argv.pop(1))
+import png_image  # tests/report/png_image.py
 
 html_path, dom_path, expected, png_path, *logs = sys.argv[1:]
 expected = int(expected)
@@ -76,58 +84,20 @@ elif int(m.group(1)) != expected:
     failures.append(f"the page script saw {m.group(1)} plots, expected {expected}")
 
 src = open(html_path, encoding="utf-8", errors="replace").read()
+# The inlined libraries (three.js, <script data-library="...">) name their authors' sites and
+# XML namespaces in comments and strings; the page itself must name nothing outside the file.
+src = re.sub(r'<script data-library="[^"]*">.*?</script>', '', src, flags=re.S)
 urls = set(re.findall(r'(?:https?|ftp)://[^\s"\'<>)]*', src)) - {"http://www.w3.org/2000/svg"}
 if urls:
     failures.append("external references: " + ", ".join(sorted(urls)[:5]))
 if re.search(r'<(?:script|img|link|iframe)\b[^>]*\b(?:src|href)="(?!data:)', src):
     failures.append("an element loads something by src/href")
 
-def png_pixels(path, max_rows):
-    data = open(path, "rb").read()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise ValueError("not a PNG")
-    pos, idat, hdr = 8, b"", None
-    while pos < len(data):
-        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + n]
-        if kind == b"IHDR":
-            hdr = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + n
-    w, h, depth, ctype, _, _, interlace = hdr
-    if depth != 8 or ctype not in (2, 6) or interlace:
-        raise ValueError(f"unexpected PNG format depth={depth} type={ctype}")
-    bpp = 3 if ctype == 2 else 4
-    raw = zlib.decompress(idat)
-    stride = w * bpp
-    rows, prev = [], bytearray(stride)
-    for y in range(min(h, max_rows)):
-        f = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        if f == 0:
-            rows.append(bytes(line))
-            prev = line
-            continue
-        for i in range(stride):  # undo the PNG scanline filters
-            a = line[i - bpp] if i >= bpp else 0
-            b = prev[i]
-            c = prev[i - bpp] if i >= bpp else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, bpp, rows
-
 try:
     # The first screenful (what the reader sees first) is judged; decoding in pure Python is
     # slow, and a taller page only adds more of the same.
-    w, h, bpp, rows = png_pixels(png_path, 800)
+    img = png_image.read(png_path, 800)
+    w, h, bpp, rows = img.width, img.height, img.bpp, img.rows
     counts = {}
     for r in rows[::2]:  # every second row and column is plenty
         for i in range(0, len(r), 2 * bpp):

@@ -1,6 +1,7 @@
 #include "redpost/io/output_target.hpp"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 
@@ -37,6 +38,17 @@ void check_output_target(const std::string& path, const std::string& what) {
               what + " is " + kind_of(st.st_mode) +
                   ": redpost writes a new file and renames it into place, which would replace "
                   "it; name a regular file, or remove it first",
+              SourceLocation{path, 0, 0});
+}
+
+void check_output_folder(const std::string& path, const std::string& what) {
+  const fs::path p(path), folder = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (fs::is_directory(folder, ec) && ::access(folder.c_str(), W_OK) == 0)
+    return;
+  throw Error(ErrorCode::io,
+              what + ": the folder '" + folder.string() +
+                  "' does not exist or is not writable; create it or choose another path",
               SourceLocation{path, 0, 0});
 }
 

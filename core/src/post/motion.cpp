@@ -200,6 +200,11 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
     p.planned = true;
     p.q_plan = *plan;
   }
+  // The tool in force, for a host that draws it: its length, and how far its TCP lies beyond the
+  // chain's own along -z of the TCP frame (cell_for_tool).
+  p.tool_length_mm =
+      std::isfinite(active_length_mm) ? active_length_mm : cell.tools.reference_length_mm;
+  p.tcp_shift_mm = active_cell == &cell ? 0.0 : active_length_mm - cell.tools.reference_length_mm;
   pending.push_back(std::move(p));
   TimedMotion timed = t;
   timed.index = summary.motions;

@@ -111,6 +111,8 @@ struct PostSession::Impl {
     JointVector q_plan;    // ... and the plan's posture there
     bool has_deflection = false;
     MotionDeflection deflection;
+    double tool_length_mm = std::numeric_limits<double>::quiet_NaN();
+    double tcp_shift_mm = 0.0;
   };
   std::unique_ptr<PathTimer> timer;
   std::deque<PendingMotion> pending;

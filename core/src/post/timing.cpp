@@ -446,6 +446,8 @@ void PostSession::Impl::observe(const PendingMotion& p, const TimedMotion& t,
   s.speed_fraction = &fraction;
   s.q_plan = p.planned ? &p.q_plan : nullptr;
   s.deflection = p.has_deflection ? &p.deflection : nullptr;
+  s.tool_length_mm = p.tool_length_mm;
+  s.tcp_shift_mm = p.tcp_shift_mm;
   o.on_motion(s);
 }
 

@@ -2,6 +2,7 @@
 #include "redpost/report/html_report.hpp"
 
 #include "escape.hpp"
+#include "scene3d_html.hpp"
 
 #include <fmt/format.h>
 
@@ -32,6 +33,16 @@ figure{display:inline-block;vertical-align:top;margin:8px 10px 10px 0}
 svg.plot{display:block;max-width:100%;height:auto;cursor:crosshair;border:1px solid #ddd}
 svg.plot.zoom{width:100%}
 footer{margin-top:24px;color:#666;font-size:12px}
+div.scene3d{max-width:1240px;margin:8px 0}
+canvas.s3-canvas{display:block;border:1px solid #ddd;cursor:grab}
+div.s3-controls{display:flex;align-items:center;gap:10px;margin:6px 0}
+input.s3-slider{flex:1}
+span.s3-readout{font-size:12px;font-variant-numeric:tabular-nums;min-width:520px}
+div.s3-colour{font-size:13px}
+span.s3-bar{display:inline-flex;align-items:center;gap:6px}
+span.s3-bar span{position:relative;display:inline-block;width:220px;height:12px;border:1px solid #999}
+span.s3-bar i{position:absolute;top:-3px;bottom:-3px;width:2px;background:#d62728}
+div.s3-msg{color:#b35806}
 )";
 
 // Hover read-out (data coordinates under the pointer, from the data-px/x/y attributes of each
@@ -166,6 +177,11 @@ void HtmlReport::add_plot(XYView plot) {
   add_rendered(body_, plot, next_id());
 }
 
+void HtmlReport::add_scene3d(const Scene3d& scene) {
+  ++scenes_;
+  body_ += render_scene3d(scene, "scene-" + std::to_string(scenes_));
+}
+
 void HtmlReport::add_svg(std::string svg) {
   ++plots_;
   body_ += "<figure>" + svg + "</figure>\n";
@@ -193,7 +209,10 @@ std::string HtmlReport::html() const {
     out += "</section>\n";
   out +=
       "<footer>Written by redpost. Hover over a plot for values; click it to enlarge.</footer>\n";
-  out += fmt::format("</main>\n<script>{}</script>\n</body>\n</html>\n", kScript);
+  out += "</main>\n";
+  if (scenes_ > 0)
+    out += scene3d_scripts();
+  out += fmt::format("<script>{}</script>\n</body>\n</html>\n", kScript);
   return out;
 }
 

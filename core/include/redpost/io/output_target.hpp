@@ -14,6 +14,10 @@ namespace redpost {
 // symbolic link). `what` says which output it is ("--report", "the program file").
 void check_output_target(const std::string& path, const std::string& what);
 
+// Throws Error(ErrorCode::io) naming `path` when the folder that would hold it does not exist or
+// is not writable: for an output written after others, so that it cannot fail once they are.
+void check_output_folder(const std::string& path, const std::string& what);
+
 // True when both paths name the same file: the same inode if both exist, else the same path
 // once made absolute and normal (symbolic links in existing folders resolved).
 bool same_file(const std::string& a, const std::string& b);

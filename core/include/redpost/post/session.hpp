@@ -77,6 +77,11 @@ struct MotionSample {
   // The deflection at this motion (null where none was predicted: no prediction asked, a rapid,
   // a PTP, a plunge, a drilling cycle, the spindle off, or a step written inside a longer move).
   const MotionDeflection* deflection = nullptr;
+  // The tool in force: its length from the spindle's gauge line to the tip (NaN: unknown, the
+  // chain's own TCP), and how far its TCP lies beyond the chain's TCP along -z of the TCP frame
+  // (cell_for_tool; 0 for the chain's own TCP).
+  double tool_length_mm = std::numeric_limits<double>::quiet_NaN();
+  double tcp_shift_mm = 0.0;
 };
 
 // Called for every written motion, after it was written. Empty: no samples are made.

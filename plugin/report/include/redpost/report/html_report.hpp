@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "redpost/report/scene3d.hpp"
 #include "redpost/report/svg_plot.hpp"
 
 namespace redpost::report {
@@ -60,7 +61,12 @@ class HtmlReport {
   // A pre-rendered <svg class="plot"> (its ids must not clash with the report's plot-<n>).
   void add_svg(std::string svg);
 
+  // A 3D view of the cell running its program (scene3d.hpp), id "scene-<n>". The page then
+  // inlines three.js and the view's script once, after the last view (about 650 KB).
+  void add_scene3d(const Scene3d& scene);
+
   int plot_count() const { return plots_; }
+  int scene_count() const { return scenes_; }
   int warning_count() const { return warnings_; }
 
   // The whole document. The host writes it (the CLI through redpost::write_text_file: a
@@ -76,6 +82,7 @@ class HtmlReport {
   std::string body_;
   bool in_section_ = false;
   int plots_ = 0;
+  int scenes_ = 0;
   int warnings_ = 0;
 };
 

@@ -1,0 +1,105 @@
+#include "convert_report_scene.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "scene_cell.hpp"
+
+namespace redpost::cli {
+
+namespace {
+
+namespace rep = redpost::report;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The band next to each limit where the tracker pushes a joint back (NullSpaceGains::limit_zone),
+// as a percentage of the joint's range: the mark on the limit margin's colour bar.
+constexpr double kLimitZonePercent = 10.0;
+
+// The order of the values SceneTrace gives each motion.
+enum Quantity { kCondition, kAxisSpeed, kLimitMargin, kDeflection, kQuantities };
+
+std::vector<rep::SceneQuantity> quantities() {
+  std::vector<rep::SceneQuantity> q(kQuantities);
+  q[kCondition] = {"1/kappa_F", "", true, kNaN, "switch threshold"};
+  q[kAxisSpeed] = {"fastest axis", "% of its speed limit", false, 100.0, "the limit"};
+  q[kLimitMargin] = {"closest joint limit", "% of the joint's range", true, kLimitZonePercent,
+                     "limit zone"};
+  q[kDeflection] = {"deflection normal to the wall", "mm", false, kNaN, "tolerance"};
+  return q;
+}
+
+}  // namespace
+
+SceneTrace::SceneTrace(const rp_session* session) : cell_(scene_cell_of(session)) {
+  recorder_.emplace(cell_, quantities());
+}
+
+void SceneTrace::on_motion(const rp_motion& m) {
+  double values[kQuantities];
+  values[kCondition] = m.inv_condition;
+  conditioning_threshold_ = m.conditioning_threshold;
+  // The fastest axis of the motion; none where no axis has a speed limit.
+  double fastest = 0.0;
+  for (int i = 0; i < m.joint_count && i < 16; ++i)
+    fastest = std::max(fastest, m.speed_fraction[i]);
+  values[kAxisSpeed] = fastest > 0.0 ? 100.0 * fastest : kNaN;
+  // The joint closest to a limit, as a share of its range (virtual joints have no limit that
+  // matters to the machine).
+  double margin = kNaN;
+  for (int i = 0; i < m.joint_count && i < static_cast<int>(cell_.links.size()); ++i) {
+    const rep::SceneLink& l = cell_.links[static_cast<std::size_t>(i)];
+    if (l.type == rep::SceneLink::Type::virtual_spin || !(l.upper > l.lower))
+      continue;
+    const double share =
+        100.0 * std::min(m.joints[i] - l.lower, l.upper - m.joints[i]) / (l.upper - l.lower);
+    margin = std::isnan(margin) ? share : std::min(margin, share);
+  }
+  values[kLimitMargin] = margin;
+  values[kDeflection] = m.has_deflection ? std::fabs(m.deflection_normal_mm) : kNaN;
+
+  rep::SceneMotion s;
+  s.index = m.index;
+  s.cl_line = m.line;
+  s.q = m.joints;
+  s.joint_count = m.joint_count;
+  // A host built against an older rp_motion (struct_size) has no tool fields.
+  const bool has_tool = m.struct_size >= offsetof(rp_motion, tcp_shift_mm) + sizeof(double);
+  s.tool_length_mm = has_tool ? m.tool_length_mm : kNaN;
+  s.tcp_shift_mm = has_tool ? m.tcp_shift_mm : 0.0;
+  for (int k = 0; k < 3; ++k)
+    s.tcp_part_mm[k] = m.tcp[k];
+  s.values = values;
+  recorder_->add(s);
+}
+
+void SceneTrace::add_section(rep::HtmlReport& r, const rp_session* session) const {
+  if (recorder_->motions() == 0)
+    return;
+  rep::Scene3d scene = recorder_->scene("The cell in 3D");
+  rp_deflection_summary ds{};
+  ds.struct_size = sizeof ds;
+  const bool deflection =
+      rp_deflection_summary_get(session, &ds) == RP_OK && ds.mode != RP_DEFLECTION_OFF;
+  for (rep::SceneQuantity& q : scene.quantities) {
+    if (q.name == "1/kappa_F")
+      q.threshold = conditioning_threshold_;
+    if (q.name == "deflection normal to the wall" && deflection)
+      q.threshold = ds.tolerance_mm;
+  }
+  r.add_section("The cell in 3D");
+  r.add_paragraph(
+      "The cell drawn from its DH chain at the written joint values: the arm (orange), the "
+      "track and the table (grey), the tool at the TCP in force, and the program's toolpath on "
+      "the table. Move the slider or press Play to run the program; choose what colours the "
+      "toolpath below the view.");
+  r.add_scene3d(scene);
+}
+
+}  // namespace redpost::cli

@@ -1,0 +1,22 @@
+// The cell as the reports' 3D view draws it (redpost/report/scene3d.hpp), from either side of the
+// product boundary: the C ABI's model of a session (convert, like any host) or a Cell loaded by
+// the command itself (place).
+#pragma once
+
+#include "redpost.h"
+#include "redpost/kinematics/cell.hpp"
+#include "redpost/report/scene3d.hpp"
+
+namespace redpost::cli {
+
+// Through rp_cell_info_get and rp_link_get. Throws Error when the ABI refuses.
+report::SceneCell scene_cell_of(const rp_session* session);
+
+// The loaded cell with the workpiece frame at T_B_part in {B}.
+report::SceneCell scene_cell_of(const Cell& cell, const Isometry& T_B_part);
+
+// The first joints that carry the workpiece: those up to the turntable that carries the base
+// (<controller><kinematic type="base">), none without one.
+int positioner_joints(int coupled_base_joint);
+
+}  // namespace redpost::cli
