@@ -42,6 +42,10 @@ SceneTrace::SceneTrace(const rp_session* session) : cell_(scene_cell_of(session)
 }
 
 void SceneTrace::on_motion(const rp_motion& m) {
+  // Called from the session's observer, which must not throw: a motion of another chain (which
+  // the session never sends) is left out rather than refused.
+  if (m.joint_count != static_cast<int>(cell_.links.size()))
+    return;
   double values[kQuantities];
   values[kCondition] = m.inv_condition;
   conditioning_threshold_ = m.conditioning_threshold;
