@@ -28,23 +28,6 @@ namespace rep = redpost::report;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kPlaneColours[3] = {"#d62728", "#2ca02c", "#1f77b4"};  // x, y, z
 
-// The smallest distance of an arm joint to its limits at q, in % of its range, and the joint.
-std::pair<double, int> closest_limit(const Cell& cell, const JointVector& q) {
-  double worst = kNaN;
-  int joint = -1;
-  for (int j = 0; j < cell.size(); ++j) {
-    const Joint& jt = cell.joint(j);
-    if (jt.type == JointType::virtual_spin || !(jt.upper > jt.lower))
-      continue;
-    const double share = 100.0 * std::min(q[j] - jt.lower, jt.upper - q[j]) / (jt.upper - jt.lower);
-    if (std::isnan(worst) || share < worst) {
-      worst = share;
-      joint = j;
-    }
-  }
-  return {worst, joint};
-}
-
 void add_points_table(rep::HtmlReport& html, const CalibrationPlanReportInput& in) {
   const std::size_t configs = std::max<std::size_t>(in.configurations, 1);
   std::vector<std::array<long, 3>> count(configs, {0, 0, 0});
@@ -106,7 +89,7 @@ void add_scene_section(rep::HtmlReport& html, const CalibrationPlanReportInput& 
   for (std::size_t i = 0; i < in.points->size(); ++i) {
     const CalibrationPoint& p = (*in.points)[i];
     forward_kinematics(cell, p.q, data);
-    double values[3] = {static_cast<double>(p.plane), kNaN, closest_limit(cell, p.q).first};
+    double values[3] = {static_cast<double>(p.plane), kNaN, closest_limit(cell, p.q).percent};
     if (cell.conditioning.declared()) {
       tcp_jacobian(cell, data, J);
       values[1] = arm_inverse_condition(cell, J);
@@ -151,10 +134,10 @@ std::string calibration_plan_report_html(const CalibrationPlanReportInput& in) {
   long near = 0;
   std::string which;
   for (std::size_t i = 0; i < in.points->size(); ++i) {
-    const auto [share, joint] = closest_limit(*in.cell, (*in.points)[i].q);
-    if (share < 5.0) {
+    const LimitMargin m = closest_limit(*in.cell, (*in.points)[i].q);
+    if (m.percent < 5.0) {
       which += fmt::format("{}{} ({} at {:.1f} %)", near ? ", " : "", i + 1,
-                           in.cell->joint(joint).name, share);
+                           in.cell->joint(m.joint).name, m.percent);
       ++near;
     }
   }

@@ -265,14 +265,7 @@ void add_scene_section(rep::HtmlReport& html, const PlacementReportInput& in) {
     pb.deflection_mm(q, w_B, y_B, &values[1]);
     values[0] = in.map_best->c(static_cast<int>(i), plan.beta_index[i],
                                plan.mu[static_cast<std::size_t>(seg)]);
-    values[2] = kNaN;
-    for (int k = 0; k < cell.size(); ++k) {
-      const Joint& j = cell.joint(k);
-      if (j.type == JointType::virtual_spin || !(j.upper > j.lower))
-        continue;
-      const double share = 100.0 * std::min(q[k] - j.lower, j.upper - q[k]) / (j.upper - j.lower);
-      values[2] = std::isnan(values[2]) ? share : std::min(values[2], share);
-    }
+    values[2] = closest_limit(cell, q).percent;
     const Eigen::Vector3d tcp_W = T_W_B * tcp_pose(cell, q).translation();
     rep::SceneMotion m;
     m.index = static_cast<long>(i) + 1;

@@ -1,5 +1,8 @@
 #include "scene_cell.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include "redpost/io/error.hpp"
@@ -27,6 +30,19 @@ report::Transform34 from_isometry(const Isometry& T) {
 }
 
 }  // namespace
+
+LimitMargin closest_limit(const Cell& cell, const JointVector& q) {
+  LimitMargin m{std::numeric_limits<double>::quiet_NaN(), -1};
+  for (int j = 0; j < cell.size(); ++j) {
+    const Joint& jt = cell.joint(j);
+    if (jt.type == JointType::virtual_spin || !(jt.upper > jt.lower))
+      continue;
+    const double share = 100.0 * std::min(q[j] - jt.lower, jt.upper - q[j]) / (jt.upper - jt.lower);
+    if (m.joint < 0 || share < m.percent)
+      m = {share, j};
+  }
+  return m;
+}
 
 int positioner_joints(int coupled_base_joint) {
   return coupled_base_joint >= 0 ? coupled_base_joint + 1 : 0;

@@ -15,6 +15,14 @@ report::SceneCell scene_cell_of(const rp_session* session);
 // The loaded cell with the workpiece frame at T_B_part in {B}.
 report::SceneCell scene_cell_of(const Cell& cell, const Isometry& T_B_part);
 
+// The joint closest to one of its limits at q, as a share of its range (%), virtual joints left
+// out: the 3D view's "closest joint limit". NaN and -1 for a chain without limits.
+struct LimitMargin {
+  double percent;
+  int joint;
+};
+LimitMargin closest_limit(const Cell& cell, const JointVector& q);
+
 // The first joints that carry the workpiece: those up to the turntable that carries the base
 // (<controller><kinematic type="base">), none without one.
 int positioner_joints(int coupled_base_joint);
