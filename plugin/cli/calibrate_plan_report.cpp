@@ -106,7 +106,7 @@ void add_scene_section(rep::HtmlReport& html, const CalibrationPlanReportInput& 
     m.values = values;
     rec.add(m);
   }
-  rep::Scene3d scene = rec.scene("The plan in 3D");
+  rep::Scene3d scene = rec.scene();
   scene.path_as_points = true;
   scene.path_name = "measurement points";
   scene.line_label = "point";

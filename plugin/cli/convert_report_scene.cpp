@@ -37,9 +37,8 @@ std::vector<rep::SceneQuantity> quantities() {
 
 }  // namespace
 
-SceneTrace::SceneTrace(const rp_session* session) : cell_(scene_cell_of(session)) {
-  recorder_.emplace(cell_, quantities());
-}
+SceneTrace::SceneTrace(const rp_session* session)
+    : cell_(scene_cell_of(session)), recorder_(cell_, quantities()) {}
 
 void SceneTrace::on_motion(const rp_motion& m) {
   // Called from the session's observer, which must not throw: a motion of another chain (which
@@ -80,13 +79,13 @@ void SceneTrace::on_motion(const rp_motion& m) {
   for (int k = 0; k < 3; ++k)
     s.tcp_part_mm[k] = m.tcp[k];
   s.values = values;
-  recorder_->add(s);
+  recorder_.add(s);
 }
 
 void SceneTrace::add_section(rep::HtmlReport& r, const rp_session* session) const {
-  if (recorder_->motions() == 0)
+  if (recorder_.motions() == 0)
     return;
-  rep::Scene3d scene = recorder_->scene("The cell in 3D");
+  rep::Scene3d scene = recorder_.scene();
   rp_deflection_summary ds{};
   ds.struct_size = sizeof ds;
   const bool deflection =

@@ -6,8 +6,6 @@
 // within Scene3dLimits, so memory and page size do not grow with the run.
 #pragma once
 
-#include <optional>
-
 #include "redpost.h"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/scene3d.hpp"
@@ -27,7 +25,7 @@ class SceneTrace {
 
  private:
   report::SceneCell cell_;
-  std::optional<report::Scene3dRecorder> recorder_;
+  report::Scene3dRecorder recorder_;
   double conditioning_threshold_ = 0.0;
 };
 

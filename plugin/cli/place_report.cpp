@@ -284,7 +284,7 @@ void add_scene_section(rep::HtmlReport& html, const PlacementReportInput& in) {
       "placement's best plan, one motion per path point), with the workpiece's tool path on the "
       "table, coloured by c_i, 1/kappa_F or "
       "the closest joint limit.");
-  rep::Scene3d scene = rec.scene("The cell in 3D");
+  rep::Scene3d scene = rec.scene();
   scene.line_label = "path point";
   html.add_scene3d(scene);
 }

@@ -611,14 +611,9 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
   return guard(session->error, "", [&] {
     if (!timing)
       throw AbiError{RP_ERR_NULL, "rp_timing_get: timing is NULL"};
-    if (timing->struct_size == 0 || timing->struct_size > sizeof(rp_timing)) {
-      throw AbiError{RP_ERR_BAD_INPUT, "rp_timing_get: struct_size is " +
-                                           std::to_string(timing->struct_size) +
-                                           "; set it to sizeof(rp_timing)"};
-    }
+    check_struct_size(timing, "rp_timing_get", "rp_timing");
     const redpost::PostSummary& s = session->summary();
     rp_timing out{};
-    out.struct_size = timing->struct_size;
     out.cycle_time_s = s.cycle_time_s;
     out.cutting_time_s = s.cutting_time_s;
     out.feed_time_s = s.feed_time_s;
@@ -633,7 +628,7 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.plan_windows = s.plan_windows;
     out.plan_fallback_windows = s.plan_fallback_windows;
     out.plan_ik_evaluations = s.plan_ik_evaluations;
-    std::memcpy(timing, &out, timing->struct_size);
+    copy_sized(timing, out);
   });
 }
 
@@ -643,11 +638,7 @@ RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_lim
   return guard(session->error, "", [&] {
     if (!info)
       throw AbiError{RP_ERR_NULL, "rp_feed_limit: info is NULL"};
-    if (info->struct_size == 0 || info->struct_size > sizeof(rp_feed_limit_info)) {
-      throw AbiError{RP_ERR_BAD_INPUT, "rp_feed_limit: struct_size is " +
-                                           std::to_string(info->struct_size) +
-                                           "; set it to sizeof(rp_feed_limit_info)"};
-    }
+    check_struct_size(info, "rp_feed_limit", "rp_feed_limit_info");
     const std::vector<redpost::FeedLimit>& all = session->summary().feed_limits;
     if (index < 0 || static_cast<std::size_t>(index) >= all.size()) {
       throw AbiError{RP_ERR_BAD_INPUT, "rp_feed_limit: no stretch " + std::to_string(index) + " (" +
@@ -656,7 +647,6 @@ RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_lim
     const redpost::FeedLimit& f = all[static_cast<std::size_t>(index)];
     const redpost::Joint& j = session->cell.joint(f.joint);
     rp_feed_limit_info out{};
-    out.struct_size = info->struct_size;
     out.first_line = f.first_line;
     out.last_line = f.last_line;
     out.motions = f.motions;
@@ -666,7 +656,7 @@ RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_lim
     out.limit = redpost::to_string(f.limit);
     out.lowest_mm_per_min = f.lowest_mm_per_min;
     out.asked_mm_per_min = f.asked_mm_per_min;
-    std::memcpy(info, &out, info->struct_size);
+    copy_sized(info, out);
   });
 }
 
@@ -677,14 +667,9 @@ RP_API rp_status rp_deflection_summary_get(const rp_session* session,
   return guard(session->error, "", [&] {
     if (!summary)
       throw AbiError{RP_ERR_NULL, "rp_deflection_summary_get: summary is NULL"};
-    if (summary->struct_size == 0 || summary->struct_size > sizeof(rp_deflection_summary)) {
-      throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_summary_get: struct_size is " +
-                                           std::to_string(summary->struct_size) +
-                                           "; set it to sizeof(rp_deflection_summary)"};
-    }
+    check_struct_size(summary, "rp_deflection_summary_get", "rp_deflection_summary");
     const redpost::PostSummary& s = session->summary();
     rp_deflection_summary out{};
-    out.struct_size = summary->struct_size;
     out.mode = s.deflection_mode == redpost::DeflectionMode::compensate ? RP_DEFLECTION_COMPENSATE
                : s.deflection_mode == redpost::DeflectionMode::predict  ? RP_DEFLECTION_PREDICT
                                                                         : RP_DEFLECTION_OFF;
@@ -693,7 +678,7 @@ RP_API rp_status rp_deflection_summary_get(const rp_session* session,
     out.unloaded_moves = s.unloaded_moves;
     out.compensation_iterations = s.compensation_iterations;
     out.max_compensation_iterations = s.max_compensation_iterations;
-    std::memcpy(summary, &out, summary->struct_size);
+    copy_sized(summary, out);
   });
 }
 
@@ -703,11 +688,7 @@ RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_defl
   return guard(session->error, "", [&] {
     if (!info)
       throw AbiError{RP_ERR_NULL, "rp_deflection_get: info is NULL"};
-    if (info->struct_size == 0 || info->struct_size > sizeof(rp_deflection_info)) {
-      throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_get: struct_size is " +
-                                           std::to_string(info->struct_size) +
-                                           "; set it to sizeof(rp_deflection_info)"};
-    }
+    check_struct_size(info, "rp_deflection_get", "rp_deflection_info");
     const std::vector<redpost::DeflectionStats>& all = session->summary().deflection;
     if (index < 0 || static_cast<std::size_t>(index) >= all.size()) {
       throw AbiError{RP_ERR_BAD_INPUT, "rp_deflection_get: no operation " + std::to_string(index) +
@@ -715,7 +696,6 @@ RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_defl
     }
     const redpost::DeflectionStats& d = all[static_cast<std::size_t>(index)];
     rp_deflection_info out{};
-    out.struct_size = info->struct_size;
     out.operation = d.operation.c_str();
     out.first_line = d.first_line;
     out.last_line = d.last_line;
@@ -732,7 +712,7 @@ RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_defl
     out.max_residual_normal_mm = d.max_residual_normal_mm;
     out.over_tolerance_after = d.over_tolerance_after;
     out.max_compensation_mm = d.max_compensation_mm;
-    std::memcpy(info, &out, info->struct_size);
+    copy_sized(info, out);
   });
 }
 

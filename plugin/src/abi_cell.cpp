@@ -20,14 +20,6 @@ void copy_transform(const redpost::Isometry& T, double out[12]) {
   }
 }
 
-void check_struct_size(unsigned given, std::size_t full, const char* call, const char* type) {
-  if (given == 0 || given > full) {
-    throw AbiError{RP_ERR_BAD_INPUT, std::string(call) + ": struct_size is " +
-                                         std::to_string(given) + "; set it to sizeof(" + type +
-                                         ")"};
-  }
-}
-
 rp_joint_type joint_type_of(redpost::JointType type) {
   switch (type) {
     case redpost::JointType::prismatic:
@@ -50,7 +42,7 @@ RP_API rp_status rp_cell_info_get(const rp_session* session, rp_cell_info* info)
   return guard(session->error, "", [&] {
     if (!info)
       throw AbiError{RP_ERR_NULL, "rp_cell_info_get: info is NULL"};
-    check_struct_size(info->struct_size, sizeof(rp_cell_info), "rp_cell_info_get", "rp_cell_info");
+    check_struct_size(info, "rp_cell_info_get", "rp_cell_info");
     const redpost::Cell& c = session->cell;
     rp_cell_info out;
     std::memset(&out, 0, sizeof out);
@@ -61,10 +53,7 @@ RP_API rp_status rp_cell_info_get(const rp_session* session, rp_cell_info* info)
     out.reference_tool_length_mm = c.tools.reference_length_mm;
     out.coupled_base_joint = c.controller.coupled_base_joint;
     out.robroot_joint = c.controller.robroot_joint;
-    // A host built against an older, shorter struct gets its own fields only.
-    const unsigned size = info->struct_size;
-    std::memcpy(info, &out, size);
-    info->struct_size = size;
+    copy_sized(info, out);
   });
 }
 
@@ -74,7 +63,7 @@ RP_API rp_status rp_link_get(const rp_session* session, int index, rp_link_info*
   return guard(session->error, "", [&] {
     if (!info)
       throw AbiError{RP_ERR_NULL, "rp_link_get: info is NULL"};
-    check_struct_size(info->struct_size, sizeof(rp_link_info), "rp_link_get", "rp_link_info");
+    check_struct_size(info, "rp_link_get", "rp_link_info");
     const redpost::Cell& c = session->cell;
     if (index < 0 || index >= c.size()) {
       throw AbiError{RP_ERR_BAD_INPUT, "rp_link_get: no link " + std::to_string(index) +
@@ -98,9 +87,7 @@ RP_API rp_status rp_link_get(const rp_session* session, int index, rp_link_info*
       out.axis_sign = j.axis.sign;
       out.axis_offset = j.axis.offset;
     }
-    const unsigned size = info->struct_size;
-    std::memcpy(info, &out, size);
-    info->struct_size = size;
+    copy_sized(info, out);
   });
 }
 

@@ -5,6 +5,7 @@
 // Internal to libredpost; not installed.
 #pragma once
 
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <new>
@@ -99,6 +100,25 @@ std::string template_set_path(const char* given);
 
 inline Eigen::Vector3d vec(double x, double y, double z) {
   return Eigen::Vector3d(x, y, z);
+}
+
+// A query struct the host hands in (rp_timing, rp_cell_info, ...): its struct_size must be set
+// and not beyond this library's struct.
+template <class T>
+void check_struct_size(const T* given, const char* call, const char* type) {
+  if (given->struct_size == 0 || given->struct_size > sizeof(T)) {
+    throw AbiError{RP_ERR_BAD_INPUT, std::string(call) + ": struct_size is " +
+                                         std::to_string(given->struct_size) +
+                                         "; set it to sizeof(" + type + ")"};
+  }
+}
+
+// Writes `out` into the host's struct: a host built against an older, shorter struct gets its
+// own fields only, and its struct_size stays what it set.
+template <class T>
+void copy_sized(T* to, T out) {
+  out.struct_size = to->struct_size;
+  std::memcpy(to, &out, to->struct_size);
 }
 
 // "A1".."E6" or "none" as a static string: valid whatever happens to the session.

@@ -60,8 +60,7 @@ void Scene3dRecorder::add(const SceneMotion& m) {
   }
   ++motions_;
   last_ = frame_of(m);
-  last_kept_ = (motions_ - 1) % stride_ == 0;
-  if (last_kept_) {
+  if ((motions_ - 1) % stride_ == 0) {
     frames_.push_back(last_);
     if (frames_.size() > static_cast<std::size_t>(limits_.max_frames)) {
       // Keep every second frame: those at multiples of the doubled stride.
@@ -70,7 +69,6 @@ void Scene3dRecorder::add(const SceneMotion& m) {
       for (std::size_t i = 0; i < frames_.size(); i += 2)
         frames_[kept++] = frames_[i];
       frames_.resize(kept);
-      last_kept_ = (motions_ - 1) % stride_ == 0;
     }
   }
   add_path_point(m);
@@ -118,11 +116,9 @@ void Scene3dRecorder::rethin() {
   path_.resize(kept);
 }
 
-Scene3d Scene3dRecorder::scene(std::string title) const {
+Scene3d Scene3dRecorder::scene() const {
   Scene3d s;
-  s.title = std::move(title);
   s.cell = cell_;
-  s.joint_count = static_cast<int>(cell_.links.size());
   s.motions = motions_;
   s.frame_stride = stride_;
   s.path_tolerance_mm = tol_mm_;
@@ -136,7 +132,8 @@ Scene3d Scene3dRecorder::scene(std::string title) const {
   };
   for (const Frame& f : frames_)
     push_frame(f);
-  if (motions_ > 0 && !last_kept_)
+  // The last motion, unless the stride kept it already.
+  if (motions_ > 0 && (motions_ - 1) % stride_ != 0)
     push_frame(last_);
   for (const PathPoint& p : path_) {
     s.path_xyz.insert(s.path_xyz.end(), p.p, p.p + 3);

@@ -78,7 +78,7 @@ rep::Scene3d record(const Walk& w, rep::Scene3dLimits limits) {
     m.values = values;
     rec.add(m);
   }
-  return rec.scene("test");
+  return rec.scene();
 }
 
 std::vector<std::uint8_t> base64_decode(const std::string& s) {

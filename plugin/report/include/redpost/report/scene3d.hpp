@@ -93,11 +93,10 @@ struct SceneRect {
 
 // What the page gets: the cell, the kept motions and the thinned toolpath.
 struct Scene3d {
-  std::string title;
   SceneCell cell;
   std::vector<SceneQuantity> quantities;
-  // Kept motions: per frame, joint_count joint values, then tool length, TCP shift, TCP x y z.
-  int joint_count = 0;
+  // Kept motions: per frame, one value per link (cell.links), then tool length, TCP shift and
+  // the TCP's x y z.
   std::vector<float> frame_data;
   std::vector<std::uint32_t> frame_motion;  // motion index
   std::vector<std::uint32_t> frame_line;    // CL line
@@ -138,9 +137,8 @@ class Scene3dRecorder {
   void add(const SceneMotion& m);
 
   long motions() const { return motions_; }
-  // The scene for the page; `title` heads its note. Quantities with no value anywhere are
-  // left out.
-  Scene3d scene(std::string title) const;
+  // The scene for the page. Quantities with no value anywhere are left out.
+  Scene3d scene() const;
 
  private:
   // Joints, then tool length, TCP shift and the TCP (the page's frame layout).
@@ -165,7 +163,6 @@ class Scene3dRecorder {
   long stride_ = 1;
   std::vector<Frame> frames_;
   Frame last_;
-  bool last_kept_ = false;  // the last motion is also frames_.back()
   std::vector<PathPoint> path_;
   double tol_mm_ = 0.001;
 };
