@@ -359,6 +359,7 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
                                                                        : RP_DEFLECTION_OFF;
   o.cutting_path = opt.cutting_path.empty() ? nullptr : opt.cutting_path.c_str();
   o.deflection_tolerance_mm = opt.deflection_tolerance_mm;
+  o.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
 }
 
 int run_convert(const ConvertOptions& opt) {
@@ -376,8 +377,9 @@ int run_convert(const ConvertOptions& opt) {
   rp_reader_options ro;
   rp_reader_options_init(&ro);
   ro.chordal_tolerance_mm = opt.chordal_tolerance_mm;
-  ro.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
-  ro.arcs_as_events = 1;  // the session writes a CIRC where the set has one, chords otherwise
+  // The toolpath as the file says it: the session expands cycles, NURBS and MSYS as it does NX's
+  // events, and writes a CIRC where the set has one, chords otherwise.
+  ro.toolpath_events = 1;
   if (const rp_status st = rp_reader_open_ex(opt.input.c_str(), &ro, &h.reader); st != RP_OK) {
     return report(st, rp_last_error(nullptr));
   }
@@ -413,11 +415,10 @@ int run_convert(const ConvertOptions& opt) {
   }
   if (progress)
     fmt::print(stderr, "\r{:40}\r", "");
-  std::vector<std::string> reader_warnings;
+  // The reader's warnings (about the file itself) are the session's first ones.
   for (int i = 0; const char* w = rp_reader_warning(h.reader, i); ++i) {
-    fmt::print(stderr, "warning: {}\n", w);
-    if (html)
-      reader_warnings.emplace_back(w);
+    if (const rp_status st = rp_warn(h.session, w); st != RP_OK)
+      return report(st, rp_last_error(h.session));
   }
   // Everything is written and flushed before anything is renamed: the report too, so that a
   // full disk or a bad report path stops the run with an old program of the name still whole.
@@ -434,7 +435,6 @@ int run_convert(const ConvertOptions& opt) {
     context.cell = opt.cell_path;
     context.program = name;
     context.seconds = seconds;
-    context.reader_warnings = std::move(reader_warnings);
     report_file.emplace(std::vector<TextOutput>{
         TextOutput{opt.report_html, html->html(opt.report_html, h.session, context)}});
   }

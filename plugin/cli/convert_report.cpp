@@ -315,7 +315,8 @@ std::vector<Limits> add_joint_ranges_section(rep::HtmlReport& r, const ConvertRe
   return limits;
 }
 
-// The reader's and the session's warnings; returns how many there are and how many are shown.
+// The run's warnings (the host's, then the session's); returns how many there are and how many are
+// shown.
 std::pair<std::size_t, std::size_t> add_run_warnings(rep::HtmlReport& r, const rp_session* session,
                                                      const ConvertReportContext& context) {
   // Every warning up to a screenful; the rest are counted (the terminal printed them all).
@@ -325,8 +326,6 @@ std::pair<std::size_t, std::size_t> add_run_warnings(rep::HtmlReport& r, const r
     if (shown++ < kMaxWarnings)
       r.add_warning(w);
   };
-  for (const std::string& w : context.reader_warnings)
-    warn(w);
   for (int i = 0; const char* w = rp_warning(session, i); ++i)
     warn(w);
   if (shown > kMaxWarnings)

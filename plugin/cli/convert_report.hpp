@@ -21,7 +21,6 @@ struct ConvertReportContext {
   std::string cell;      // the cell definition file
   std::string program;   // the KRL program name
   double seconds = 0.0;  // conversion time
-  std::vector<std::string> reader_warnings;
 };
 
 class ConvertReport {

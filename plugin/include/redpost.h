@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 5
+#define REDPOST_VERSION_MINOR 6
 #define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.5.0"
+#define REDPOST_VERSION "0.6.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -89,6 +89,10 @@ typedef struct rp_options {
   int deflection;                 /* RP_DEFLECTION_OFF (default), _PREDICT or _COMPENSATE */
   const char* cutting_path;       /* the cutting conditions file; NULL: the defaults */
   double deflection_tolerance_mm; /* the normal deflection is judged against it; default 0.05 */
+  /* Added in 0.6: what NX's MSYS (rp_machine_frame, RP_EVENT_MSYS) means, and the report. */
+  int msys;                /* RP_MSYS_IGNORE (default) or RP_MSYS_APPLY (rp_msys_mode below) */
+  const char* report_path; /* an HTML report of the run (docs/reports.md), written with the
+                              program (rp_prepare, renamed into place by rp_close); NULL: none */
 } rp_options;
 
 enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };
@@ -124,7 +128,7 @@ typedef struct rp_summary {
   int warnings; /* number of warnings (see rp_warning) */
 } rp_summary;
 
-/* The library's version, e.g. "0.5.0". */
+/* The library's version, e.g. "0.6.0". */
 RP_API const char* rp_version(void);
 
 /* Fills *options with the defaults. Call before setting fields. */
@@ -160,6 +164,68 @@ RP_API rp_status rp_coolant(rp_session* session, int on, const char* mode);
 RP_API rp_status rp_comment(rp_session* session, const char* text);
 /* A literal line passed to the program as it is. */
 RP_API rp_status rp_literal(rp_session* session, const char* text);
+
+/* --- Added in 0.6: the rest of the toolpath (docs/nx-integration.md, "The events") ----------
+ * What a CL file says beyond moves, so that every front end (a CL file through the reader, NX's
+ * postprocessor, any host) gives the session the same events and gets the same program. */
+
+/* A drilling cycle (CYCLE/DRILL..., NX's MOM_drill, MOM_drill_deep, ...): lengths in mm along
+ * the tool axis from a hole's point, its top. NaN where the cycle gives none. */
+typedef struct rp_cycle_params {
+  unsigned struct_size; /* sizeof(rp_cycle_params), set by rp_cycle_params_init */
+  int peck;             /* 1: a pecking (deep) cycle, full retract to the clearance between pecks */
+  double depth_mm;      /* FEDTO: the hole's bottom below its point (required) */
+  double clearance_mm;  /* RAPTO: rapids stop this far above the point (required) */
+  double retract_mm;    /* RTRCTO: where the tool goes after the hole; NaN: the clearance */
+  double feed_mm_per_min; /* the cycle's feed; NaN: the feed in force (rp_feed) */
+  double dwell_s;         /* at the hole's bottom, 0 to 600 s; default 0 */
+  double first_peck_mm;   /* 1STPECK (required for a pecking cycle deeper than 0) */
+  double next_peck_mm;    /* SUBPECK; NaN: first_peck_mm */
+  const char* name; /* for messages, e.g. "CYCLE/DRILL" or "MOM_drill_deep"; NULL: CYCLE/DRILL */
+} rp_cycle_params;
+RP_API void rp_cycle_params_init(rp_cycle_params* params);
+/* Defines the cycle and switches it on: every move (rp_linear_move, like a GOTO in a CL file) or
+ * rp_cycle_hole until rp_cycle_off is a hole of it, written as its rapid, feed, peck, dwell and
+ * retract moves. A tool change or an operation start while it is on interrupts it: a motion
+ * after that, before rp_cycle_off, is refused (it cannot be told a hole or a move). */
+RP_API rp_status rp_cycle_define(rp_session* session, const rp_cycle_params* params);
+/* A hole of the cycle at (x, y, z), its point on the surface, with the tool axis (i, j, k). */
+RP_API rp_status rp_cycle_hole(rp_session* session, double x, double y, double z, double i,
+                               double j, double k);
+/* CYCLE/ON: the last cycle defined on again. */
+RP_API rp_status rp_cycle_on(rp_session* session);
+RP_API rp_status rp_cycle_off(rp_session* session);
+/* A NURBS from the current point (NURBS/ with KNOT/ and CNTRL/, NX's MOM_nurbs_move): knots
+ * as given, non-decreasing, either the complete clamped vector (with or without the current
+ * point as the first control point) or the NX CLSF form without the end knots
+ * (docs/cl-format.md, "NURBS"); points are x, y, z (mm) and the weight (> 0) of each control
+ * point, 4 doubles each. The tool axis (i, j, k) holds along it. Split into chords within the
+ * chordal tolerance. */
+RP_API rp_status rp_nurbs_move(rp_session* session, const double* knots, int knot_count,
+                               const double* points, int point_count, double i, double j, double k);
+/* NX's MSYS / MOM_msys: the MCS's origin and its X and Y axes (unit, orthogonal) in NX's
+ * absolute frame. Under RP_MSYS_IGNORE every MSYS must be the same (the MCS is the workpiece
+ * frame); under RP_MSYS_APPLY the points and vectors after it are turned into the absolute frame.
+ * The arrays hold 3 doubles each. */
+RP_API rp_status rp_machine_frame(rp_session* session, const double* origin, const double* x_axis,
+                                  const double* y_axis);
+/* A dwell (NX's MOM_delay), 0 to 600 s. */
+RP_API rp_status rp_dwell(rp_session* session, double seconds);
+/* Cutter radius compensation on (side "LEFT", "RIGHT" or "ON") or off: KRL has none, so a warning
+ * says that the points are taken as the tool centre. */
+RP_API rp_status rp_cutcom(rp_session* session, int on, const char* side);
+typedef enum rp_text_kind {
+  RP_TEXT_INSERT = 0, /* INSERT/, NX's Insert: a comment, or "KRL: statement" as code */
+  RP_TEXT_PPRINT = 1, /* PPRINT/, NX's MOM_pprint: a comment */
+  RP_TEXT_MESSAGE = 2 /* NX's operator message: a comment, without a warning */
+} rp_text_kind;
+/* Operator text, as the CL file or NX gives it; each written as a comment with a warning that
+ * names its line (up to 20), but INSERT's "KRL: statement", which passes the (checked) statement
+ * through as rp_literal does. */
+RP_API rp_status rp_operator_text(rp_session* session, rp_text_kind kind, const char* text);
+/* A warning of the host's own (about its input: an unknown CL word, ...): listed before the
+ * session's own by rp_warning and in the report. Taken until rp_prepare. */
+RP_API rp_status rp_warn(rp_session* session, const char* text);
 
 /* Added in 0.3.2. Completes the program and the joints log and flushes them to the disk,
  * without renaming anything: every check has run and a full disk has shown. The session then
@@ -382,7 +448,8 @@ typedef struct rp_link_info {
 } rp_link_info;
 RP_API rp_status rp_link_get(const rp_session* session, int index, rp_link_info* info);
 
-/* Warning number index (0-based) of the session, or NULL past the end. */
+/* Warning number index (0-based) of the session, or NULL past the end: the host's (rp_warn)
+ * first, then the session's own. */
 RP_API const char* rp_warning(const rp_session* session, int index);
 /* The final path of written .src file number index (0: the main program), or NULL. */
 RP_API const char* rp_output_file(const rp_session* session, int index);
@@ -407,8 +474,21 @@ typedef enum rp_event_kind {
   RP_EVENT_END_OF_PROGRAM,
   RP_EVENT_DWELL,         /* value = seconds at a hole's bottom (added in 0.2) */
   RP_EVENT_MACHINE_FRAME, /* NX MSYS: p = origin, axis = MCS z, flag = applied (added in 0.2) */
-  RP_EVENT_ARC /* CIRCLE + GOTO (rp_reader_options.arcs_as_events): p, axis the end; arc_centre,
-                  arc_axis (right-hand rule); value the radius, 0: from the start (added in 0.2) */
+  RP_EVENT_ARC, /* CIRCLE + GOTO (rp_reader_options.arcs_as_events): p, axis the end; arc_centre,
+                   arc_axis (right-hand rule); value the radius, 0: from the start (added in 0.2) */
+  /* Added in 0.6: the toolpath events of a reader opened with toolpath_events, for the session
+   * to expand (rp_session_event) as it expands the calls above. */
+  RP_EVENT_CYCLE,         /* cycle defined and on: `cycle`, text its name (rp_cycle_define) */
+  RP_EVENT_CYCLE_ON,      /* CYCLE/ON */
+  RP_EVENT_CYCLE_OFF,     /* CYCLE/OFF */
+  RP_EVENT_HOLE,          /* a hole at p with the tool axis `axis` (rp_cycle_hole) */
+  RP_EVENT_NURBS,         /* nurbs_knots, nurbs_points, axis (rp_nurbs_move); rapid */
+  RP_EVENT_MSYS,          /* p the origin, msys_x, msys_y (rp_machine_frame) */
+  RP_EVENT_OPERATOR_TEXT, /* text, text_kind (rp_operator_text) */
+  RP_EVENT_CUTCOM,        /* flag on, text the side (rp_cutcom) */
+  RP_EVENT_FROM,          /* FROM/: a move like RP_EVENT_MOVE, refused while a cycle is on */
+  RP_EVENT_GODLTA         /* GODLTA: by p (flag 0) or by value along axis (flag 1) from where the
+                             tool is; axis the tool axis; refused while a cycle is on */
 } rp_event_kind;
 
 typedef struct rp_event {
@@ -429,6 +509,15 @@ typedef struct rp_event {
   double clearance_p[3];
   double arc_centre[3];
   double arc_axis[3];
+  /* Added in 0.6, written only by a reader opened with toolpath_events and read by
+   * rp_session_event only for the kinds added in 0.6 (so a host built against 0.5 is safe). */
+  rp_cycle_params cycle;
+  const double* nurbs_knots; /* valid until the next rp_reader_next */
+  int nurbs_knot_count;
+  const double* nurbs_points; /* x, y, z, w per control point */
+  int nurbs_point_count;
+  double msys_x[3], msys_y[3];
+  rp_text_kind text_kind;
 } rp_event;
 
 typedef enum rp_msys_mode {
@@ -441,6 +530,11 @@ typedef struct rp_reader_options {
   double chordal_tolerance_mm;
   rp_msys_mode msys;
   int arcs_as_events; /* 1: CIRCLE + GOTO as one RP_EVENT_ARC (a session may write a CIRC) */
+  /* Added in 0.6. 1: the toolpath events as the file gives them (drilling cycles and holes,
+   * NURBS, MSYS, operator text, CUTCOM, FROM, GODLTA; arcs whole), for rp_session_event to
+   * expand in the session, as NX's events are; msys and arcs_as_events are then not used (the
+   * session's rp_options.msys is). 0: plain events, expanded by the reader. */
+  int toolpath_events;
 } rp_reader_options;
 
 RP_API void rp_reader_options_init(rp_reader_options* options);

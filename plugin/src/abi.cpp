@@ -269,6 +269,12 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
           redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
     }
     s->T_B_part = post.T_B_part;
+    if (o.msys != RP_MSYS_IGNORE && o.msys != RP_MSYS_APPLY) {
+      throw AbiError{
+          RP_ERR_BAD_INPUT,
+          fmt::format("options.msys is {}: use RP_MSYS_IGNORE or RP_MSYS_APPLY", o.msys)};
+    }
+    post.msys = o.msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
     set_plan_options(o, s->cell, post);
     set_deflection_options(o, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
@@ -277,111 +283,6 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
   if (st == RP_OK)
     *session = s.release();
   return st;
-}
-
-RP_API rp_status rp_set_line(rp_session* session, int line) {
-  if (!session)
-    return null_handle("the session");
-  session->line = line;
-  session->line_set = true;
-  return RP_OK;
-}
-
-RP_API rp_status rp_tool_change(rp_session* session, int number, const char* name,
-                                double diameter_mm, double length_mm) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] {
-    session->post->tool_change(number, name ? name : "", diameter_mm, length_mm,
-                               session->current_line());
-  });
-}
-
-RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_direction direction) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] {
-    redpost::SpindleDirection d;
-    switch (direction) {
-      case RP_SPINDLE_OFF:
-        d = redpost::SpindleDirection::off;
-        break;
-      case RP_SPINDLE_CW:
-        d = redpost::SpindleDirection::clockwise;
-        break;
-      case RP_SPINDLE_CCW:
-        d = redpost::SpindleDirection::counter_clockwise;
-        break;
-      default:
-        throw AbiError{RP_ERR_BAD_INPUT, "spindle direction " +
-                                             std::to_string(static_cast<int>(direction)) +
-                                             " is not one of RP_SPINDLE_OFF, _CW, _CCW"};
-    }
-    session->post->spindle(rpm, d);
-  });
-}
-
-RP_API rp_status rp_feed(rp_session* session, double mm_per_min) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] { session->post->feed(mm_per_min, session->current_line()); });
-}
-
-RP_API rp_status rp_rapid(rp_session* session) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] { session->post->rapid(); });
-}
-
-RP_API rp_status rp_linear_move(rp_session* session, double x, double y, double z, double i,
-                                double j, double k) {
-  if (!session)
-    return null_handle("the session");
-  return session->event(
-      [&] { session->post->move(vec(x, y, z), vec(i, j, k), session->current_line()); });
-}
-
-RP_API rp_status rp_circular_move(rp_session* session, double cx, double cy, double cz, double ax,
-                                  double ay, double az, double radius_mm, double x, double y,
-                                  double z, double i, double j, double k) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] {
-    session->post->circular_move(vec(cx, cy, cz), vec(ax, ay, az), radius_mm, vec(x, y, z),
-                                 vec(i, j, k), session->current_line());
-  });
-}
-
-RP_API rp_status rp_operation_start(rp_session* session, const char* name) {
-  if (!session)
-    return null_handle("the session");
-  return session->event(
-      [&] { session->post->operation_start(required(name, "the operation name")); });
-}
-
-RP_API rp_status rp_operation_end(rp_session* session) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] { session->post->operation_end(); });
-}
-
-RP_API rp_status rp_coolant(rp_session* session, int on, const char* mode) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] { session->post->coolant(on != 0, mode ? mode : ""); });
-}
-
-RP_API rp_status rp_comment(rp_session* session, const char* text) {
-  if (!session)
-    return null_handle("the session");
-  return session->event([&] { session->post->comment(required(text, "the comment")); });
-}
-
-RP_API rp_status rp_literal(rp_session* session, const char* text) {
-  if (!session)
-    return null_handle("the session");
-  return session->event(
-      [&] { session->post->literal(required(text, "the literal"), session->current_line()); });
 }
 
 namespace {
@@ -486,7 +387,7 @@ RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary) 
     summary->motions = s.motions;
     summary->lowest_inv_condition = s.lowest_inv_condition;
     summary->lowest_inv_condition_line = s.lowest_inv_condition_line;
-    summary->warnings = static_cast<int>(s.warnings.size());
+    summary->warnings = static_cast<int>(s.warnings.size() + session->host_warnings.size());
   });
 }
 
@@ -719,9 +620,7 @@ RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_defl
 RP_API const char* rp_warning(const rp_session* session, int index) {
   if (!session || index < 0)
     return nullptr;
-  const std::vector<std::string>& w = session->summary().warnings;
-  return static_cast<std::size_t>(index) < w.size() ? w[static_cast<std::size_t>(index)].c_str()
-                                                    : nullptr;
+  return session->warning(static_cast<std::size_t>(index));
 }
 
 RP_API const char* rp_output_file(const rp_session* session, int index) {

@@ -11,6 +11,7 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -130,6 +131,60 @@ inline const char* static_axis_name(const redpost::ControllerAxis& axis) {
   return kAxisNames[(axis.kind == redpost::AxisKind::external ? 6 : 0) + axis.number - 1];
 }
 
+// The largest NURBS a call may give (knots or control points): far beyond any CAM output, and
+// a bound on what a host's bad count makes the library read.
+inline constexpr int kMaxNurbsValues = 1'000'000;
+
+// An rp_cycle_params (of the host's size) into the cycle event's fields.
+inline void cycle_from(const rp_cycle_params& given, redpost::ClEvent& e) {
+  check_struct_size(&given, "the cycle", "rp_cycle_params");
+  rp_cycle_params p;
+  rp_cycle_params_init(&p);
+  std::memcpy(&p, &given, given.struct_size);
+  redpost::ClCycle& c = e.cycle;
+  c.deep = p.peck != 0;
+  c.depth_mm = p.depth_mm;
+  c.clearance_mm = p.clearance_mm;
+  c.retract_mm = p.retract_mm;
+  c.feed_mm_per_min = p.feed_mm_per_min;
+  c.dwell_s = p.dwell_s;
+  c.first_peck_mm = p.first_peck_mm;
+  c.next_peck_mm = p.next_peck_mm;
+  e.text = p.name ? p.name : "CYCLE/DRILL";
+}
+
+// The knots and the x, y, z, w of each control point into the NURBS event's fields.
+inline void nurbs_from(const double* knots, int knot_count, const double* points, int point_count,
+                       redpost::ClEvent& e) {
+  if (knot_count < 0 || point_count < 0 || knot_count > kMaxNurbsValues ||
+      point_count > kMaxNurbsValues) {
+    throw AbiError{RP_ERR_BAD_INPUT, "a NURBS with " + std::to_string(knot_count) + " knots and " +
+                                         std::to_string(point_count) + " control points: at most " +
+                                         std::to_string(kMaxNurbsValues) + " of each"};
+  }
+  if ((knot_count > 0 && !knots) || (point_count > 0 && !points))
+    throw AbiError{RP_ERR_NULL, "the NURBS's knots or points are NULL"};
+  e.nurbs_knots.assign(knots, knots + knot_count);
+  e.nurbs_points.resize(static_cast<std::size_t>(point_count));
+  for (int i = 0; i < point_count; ++i) {
+    const double* q = points + 4 * i;
+    e.nurbs_points[static_cast<std::size_t>(i)] = {q[0], q[1], q[2], q[3]};
+  }
+}
+
+inline redpost::TextKind text_kind_of(rp_text_kind kind) {
+  switch (kind) {
+    case RP_TEXT_INSERT:
+      return redpost::TextKind::insert;
+    case RP_TEXT_PPRINT:
+      return redpost::TextKind::pprint;
+    case RP_TEXT_MESSAGE:
+      return redpost::TextKind::message;
+  }
+  throw AbiError{RP_ERR_BAD_INPUT, "text kind " + std::to_string(static_cast<int>(kind)) +
+                                       " is not one of RP_TEXT_INSERT, _PPRINT, _MESSAGE"};
+}
+
 }  // namespace redpost::abi
 
 struct rp_session {
@@ -150,7 +205,17 @@ struct rp_session {
   // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
   std::optional<redpost::PostSummary> summary_kept;
   std::optional<redpost::PoseResult> pose_kept;
-  double conditioning_threshold = 0.0;  // the tracker's, for rp_motion
+  double conditioning_threshold = 0.0;     // the tracker's, for rp_motion
+  std::vector<std::string> host_warnings;  // rp_warn's, listed before the session's own
+
+  // Warning number index: the host's, then the session's; NULL past the end.
+  const char* warning(std::size_t index) const {
+    if (index < host_warnings.size())
+      return host_warnings[index].c_str();
+    const std::vector<std::string>& w = summary().warnings;
+    index -= host_warnings.size();
+    return index < w.size() ? w[index].c_str() : nullptr;
+  }
 
   const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
   const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
@@ -206,6 +271,8 @@ struct rp_reader {
   std::ifstream in;
   std::unique_ptr<redpost::ClReader> reader;
   redpost::ClEvent event;
+  bool toolpath_events = false;      // rp_reader_options.toolpath_events
+  std::vector<double> nurbs_points;  // the event's control points as x, y, z, w
   std::string error;
   // A reader that failed stays failed: every later rp_reader_next gives this status and the
   // same error, not a clean end of a half-read file.

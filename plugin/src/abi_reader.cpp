@@ -1,6 +1,7 @@
 // The C ABI's CL reader (redpost.h): rp_reader_* over redpost::ClReader, and reader events sent
 // to a session (rp_session_event), as `redpost convert` and the C host do for every event.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <deque>
 #include <string>
@@ -11,6 +12,118 @@
 #include "redpost/io/text_file.hpp"
 
 using namespace redpost::abi;
+
+namespace {
+
+using redpost::ClEventKind;
+using redpost::MoveOrigin;
+
+// The ABI's kind of a reader event (a FROM and a GODLTA are moves of their own kinds).
+rp_event_kind abi_kind_of(const redpost::ClEvent& e) {
+  switch (e.kind) {
+    case ClEventKind::part_name:
+      return RP_EVENT_PART_NAME;
+    case ClEventKind::tool_change:
+      return RP_EVENT_TOOL_CHANGE;
+    case ClEventKind::spindle:
+      return RP_EVENT_SPINDLE;
+    case ClEventKind::feed:
+      return RP_EVENT_FEED;
+    case ClEventKind::rapid:
+      return RP_EVENT_RAPID;
+    case ClEventKind::move:
+      return e.origin == MoveOrigin::from_point ? RP_EVENT_FROM
+             : e.origin == MoveOrigin::delta    ? RP_EVENT_GODLTA
+                                                : RP_EVENT_MOVE;
+    case ClEventKind::coolant:
+      return RP_EVENT_COOLANT;
+    case ClEventKind::operation_start:
+      return RP_EVENT_OPERATION_START;
+    case ClEventKind::operation_end:
+      return RP_EVENT_OPERATION_END;
+    case ClEventKind::comment:
+      return RP_EVENT_COMMENT;
+    case ClEventKind::literal:
+      return RP_EVENT_LITERAL;
+    case ClEventKind::unknown_word:
+      return RP_EVENT_UNKNOWN_WORD;
+    case ClEventKind::end_of_program:
+      return RP_EVENT_END_OF_PROGRAM;
+    case ClEventKind::dwell:
+      return RP_EVENT_DWELL;
+    case ClEventKind::machine_frame:
+      return RP_EVENT_MACHINE_FRAME;
+    case ClEventKind::arc:
+      return RP_EVENT_ARC;
+    case ClEventKind::cycle:
+      return RP_EVENT_CYCLE;
+    case ClEventKind::cycle_on:
+      return RP_EVENT_CYCLE_ON;
+    case ClEventKind::cycle_off:
+      return RP_EVENT_CYCLE_OFF;
+    case ClEventKind::hole:
+      return RP_EVENT_HOLE;
+    case ClEventKind::nurbs:
+      return RP_EVENT_NURBS;
+    case ClEventKind::msys:
+      return RP_EVENT_MSYS;
+    case ClEventKind::operator_text:
+      return RP_EVENT_OPERATOR_TEXT;
+    case ClEventKind::cutcom:
+      return RP_EVENT_CUTCOM;
+  }
+  return RP_EVENT_UNKNOWN_WORD;
+}
+
+// The session's kind (and a move's origin) of an ABI event.
+void set_kind_of(const rp_event& event, redpost::ClEvent& e) {
+  static constexpr struct {
+    rp_event_kind abi;
+    ClEventKind kind;
+  } kKinds[] = {
+      {RP_EVENT_PART_NAME, ClEventKind::part_name},
+      {RP_EVENT_TOOL_CHANGE, ClEventKind::tool_change},
+      {RP_EVENT_SPINDLE, ClEventKind::spindle},
+      {RP_EVENT_FEED, ClEventKind::feed},
+      {RP_EVENT_RAPID, ClEventKind::rapid},
+      {RP_EVENT_MOVE, ClEventKind::move},
+      {RP_EVENT_COOLANT, ClEventKind::coolant},
+      {RP_EVENT_OPERATION_START, ClEventKind::operation_start},
+      {RP_EVENT_OPERATION_END, ClEventKind::operation_end},
+      {RP_EVENT_COMMENT, ClEventKind::comment},
+      {RP_EVENT_LITERAL, ClEventKind::literal},
+      {RP_EVENT_UNKNOWN_WORD, ClEventKind::unknown_word},
+      {RP_EVENT_END_OF_PROGRAM, ClEventKind::end_of_program},
+      {RP_EVENT_DWELL, ClEventKind::dwell},
+      {RP_EVENT_MACHINE_FRAME, ClEventKind::machine_frame},
+      {RP_EVENT_ARC, ClEventKind::arc},
+      {RP_EVENT_CYCLE, ClEventKind::cycle},
+      {RP_EVENT_CYCLE_ON, ClEventKind::cycle_on},
+      {RP_EVENT_CYCLE_OFF, ClEventKind::cycle_off},
+      {RP_EVENT_HOLE, ClEventKind::hole},
+      {RP_EVENT_NURBS, ClEventKind::nurbs},
+      {RP_EVENT_MSYS, ClEventKind::msys},
+      {RP_EVENT_OPERATOR_TEXT, ClEventKind::operator_text},
+      {RP_EVENT_CUTCOM, ClEventKind::cutcom},
+      {RP_EVENT_FROM, ClEventKind::move},
+      {RP_EVENT_GODLTA, ClEventKind::move},
+  };
+  for (const auto& k : kKinds) {
+    if (k.abi == event.kind) {
+      e.kind = k.kind;
+      e.origin = event.kind == RP_EVENT_FROM     ? MoveOrigin::from_point
+                 : event.kind == RP_EVENT_GODLTA ? MoveOrigin::delta
+                 : event.kind == RP_EVENT_ARC    ? MoveOrigin::arc
+                 : event.kind == RP_EVENT_NURBS  ? MoveOrigin::nurbs
+                                                 : MoveOrigin::goto_point;
+      return;
+    }
+  }
+  throw AbiError{RP_ERR_BAD_INPUT, "event kind " + std::to_string(static_cast<int>(event.kind)) +
+                                       " is not an rp_event_kind"};
+}
+
+}  // namespace
 
 extern "C" {
 
@@ -61,6 +174,8 @@ RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* op
     read.chordal_tolerance_mm = o.chordal_tolerance_mm;
     read.msys = o.msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
     read.arcs_as_events = o.arcs_as_events != 0;
+    read.toolpath_events = o.toolpath_events != 0;
+    r->toolpath_events = read.toolpath_events;
     r->reader = std::make_unique<redpost::ClReader>(r->in, path, read);
   });
   if (s == RP_OK)
@@ -84,56 +199,9 @@ RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
     if (!reader->reader->next(reader->event))
       return;
     rp_event out{};
-    switch (e.kind) {
-      case redpost::ClEventKind::part_name:
-        out.kind = RP_EVENT_PART_NAME;
-        break;
-      case redpost::ClEventKind::tool_change:
-        out.kind = RP_EVENT_TOOL_CHANGE;
-        break;
-      case redpost::ClEventKind::spindle:
-        out.kind = RP_EVENT_SPINDLE;
-        break;
-      case redpost::ClEventKind::feed:
-        out.kind = RP_EVENT_FEED;
-        break;
-      case redpost::ClEventKind::rapid:
-        out.kind = RP_EVENT_RAPID;
-        break;
-      case redpost::ClEventKind::move:
-        out.kind = RP_EVENT_MOVE;
-        break;
-      case redpost::ClEventKind::coolant:
-        out.kind = RP_EVENT_COOLANT;
-        break;
-      case redpost::ClEventKind::operation_start:
-        out.kind = RP_EVENT_OPERATION_START;
-        break;
-      case redpost::ClEventKind::operation_end:
-        out.kind = RP_EVENT_OPERATION_END;
-        break;
-      case redpost::ClEventKind::comment:
-        out.kind = RP_EVENT_COMMENT;
-        break;
-      case redpost::ClEventKind::literal:
-        out.kind = RP_EVENT_LITERAL;
-        break;
-      case redpost::ClEventKind::unknown_word:
-        out.kind = RP_EVENT_UNKNOWN_WORD;
-        break;
-      case redpost::ClEventKind::end_of_program:
-        out.kind = RP_EVENT_END_OF_PROGRAM;
-        break;
-      case redpost::ClEventKind::dwell:
-        out.kind = RP_EVENT_DWELL;
-        break;
-      case redpost::ClEventKind::machine_frame:
-        out.kind = RP_EVENT_MACHINE_FRAME;
-        break;
-      case redpost::ClEventKind::arc:
-        out.kind = RP_EVENT_ARC;
-        break;
-    }
+    out.kind = abi_kind_of(e);
+    if (!reader->toolpath_events && (out.kind == RP_EVENT_FROM || out.kind == RP_EVENT_GODLTA))
+      out.kind = RP_EVENT_MOVE;  // the kinds of 0.5 only
     out.line = e.line;
     for (int i = 0; i < 3; ++i) {
       out.p[i] = e.p_mm[i];
@@ -163,6 +231,37 @@ RP_API rp_status rp_reader_next(rp_reader* reader, rp_event* event, int* more) {
       out.arc_centre[i] = e.arc_centre_mm[i];
       out.arc_axis[i] = e.arc_axis[i];
     }
+    if (!reader->toolpath_events) {
+      // A host built against 0.5 has the fields up to arc_axis only, and this reader gives
+      // none of the later kinds: its own part of the struct only.
+      std::memcpy(static_cast<void*>(event), &out, offsetof(rp_event, cycle));
+      *more = 1;
+      return;
+    }
+    rp_cycle_params_init(&out.cycle);
+    out.cycle.peck = e.cycle.deep ? 1 : 0;
+    out.cycle.depth_mm = e.cycle.depth_mm;
+    out.cycle.clearance_mm = e.cycle.clearance_mm;
+    out.cycle.retract_mm = e.cycle.retract_mm;
+    out.cycle.feed_mm_per_min = e.cycle.feed_mm_per_min;
+    out.cycle.dwell_s = e.cycle.dwell_s;
+    out.cycle.first_peck_mm = e.cycle.first_peck_mm;
+    out.cycle.next_peck_mm = e.cycle.next_peck_mm;
+    out.cycle.name = e.text.c_str();
+    out.nurbs_knots = e.nurbs_knots.data();
+    out.nurbs_knot_count = static_cast<int>(e.nurbs_knots.size());
+    reader->nurbs_points.clear();
+    for (const redpost::ClNurbsPoint& q : e.nurbs_points)
+      reader->nurbs_points.insert(reader->nurbs_points.end(), {q.x, q.y, q.z, q.w});
+    out.nurbs_points = reader->nurbs_points.data();
+    out.nurbs_point_count = static_cast<int>(e.nurbs_points.size());
+    for (int i = 0; i < 3; ++i) {
+      out.msys_x[i] = e.msys_x[i];
+      out.msys_y[i] = e.msys_y[i];
+    }
+    out.text_kind = e.text_kind == redpost::TextKind::pprint    ? RP_TEXT_PPRINT
+                    : e.text_kind == redpost::TextKind::message ? RP_TEXT_MESSAGE
+                                                                : RP_TEXT_INSERT;
     *event = out;
     *more = 1;
   });
@@ -194,60 +293,7 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
     if (!event)
       throw AbiError{RP_ERR_NULL, "the event is NULL"};
     redpost::ClEvent e;
-    switch (event->kind) {
-      case RP_EVENT_PART_NAME:
-        e.kind = redpost::ClEventKind::part_name;
-        break;
-      case RP_EVENT_TOOL_CHANGE:
-        e.kind = redpost::ClEventKind::tool_change;
-        break;
-      case RP_EVENT_SPINDLE:
-        e.kind = redpost::ClEventKind::spindle;
-        break;
-      case RP_EVENT_FEED:
-        e.kind = redpost::ClEventKind::feed;
-        break;
-      case RP_EVENT_RAPID:
-        e.kind = redpost::ClEventKind::rapid;
-        break;
-      case RP_EVENT_MOVE:
-        e.kind = redpost::ClEventKind::move;
-        break;
-      case RP_EVENT_COOLANT:
-        e.kind = redpost::ClEventKind::coolant;
-        break;
-      case RP_EVENT_OPERATION_START:
-        e.kind = redpost::ClEventKind::operation_start;
-        break;
-      case RP_EVENT_OPERATION_END:
-        e.kind = redpost::ClEventKind::operation_end;
-        break;
-      case RP_EVENT_COMMENT:
-        e.kind = redpost::ClEventKind::comment;
-        break;
-      case RP_EVENT_LITERAL:
-        e.kind = redpost::ClEventKind::literal;
-        break;
-      case RP_EVENT_UNKNOWN_WORD:
-        e.kind = redpost::ClEventKind::unknown_word;
-        break;
-      case RP_EVENT_END_OF_PROGRAM:
-        e.kind = redpost::ClEventKind::end_of_program;
-        break;
-      case RP_EVENT_DWELL:
-        e.kind = redpost::ClEventKind::dwell;
-        break;
-      case RP_EVENT_MACHINE_FRAME:
-        e.kind = redpost::ClEventKind::machine_frame;
-        break;
-      case RP_EVENT_ARC:
-        e.kind = redpost::ClEventKind::arc;
-        break;
-      default:
-        throw AbiError{RP_ERR_BAD_INPUT, "event kind " +
-                                             std::to_string(static_cast<int>(event->kind)) +
-                                             " is not an rp_event_kind"};
-    }
+    set_kind_of(*event, e);
     e.line = event->line;
     e.p_mm = vec(event->p[0], event->p[1], event->p[2]);
     e.tool_axis = vec(event->axis[0], event->axis[1], event->axis[2]);
@@ -277,6 +323,27 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
     e.clearance_p_mm = vec(event->clearance_p[0], event->clearance_p[1], event->clearance_p[2]);
     e.arc_centre_mm = vec(event->arc_centre[0], event->arc_centre[1], event->arc_centre[2]);
     e.arc_axis = vec(event->arc_axis[0], event->arc_axis[1], event->arc_axis[2]);
+    // The fields added in 0.6, only for the kinds added with them.
+    switch (event->kind) {
+      case RP_EVENT_CYCLE:
+        cycle_from(event->cycle, e);
+        break;
+      case RP_EVENT_NURBS:
+        nurbs_from(event->nurbs_knots, event->nurbs_knot_count, event->nurbs_points,
+                   event->nurbs_point_count, e);
+        break;
+      case RP_EVENT_MSYS:
+        e.msys_x = vec(event->msys_x[0], event->msys_x[1], event->msys_x[2]);
+        e.msys_y = vec(event->msys_y[0], event->msys_y[1], event->msys_y[2]);
+        break;
+      case RP_EVENT_OPERATOR_TEXT:
+        if (!event->text)
+          throw AbiError{RP_ERR_NULL, "the operator text is NULL"};
+        e.text_kind = text_kind_of(event->text_kind);
+        break;
+      default:
+        break;
+    }
     session->post->handle(e);
   });
 }

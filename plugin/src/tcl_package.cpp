@@ -439,6 +439,26 @@ const char* event_kind_name(rp_event_kind k) {
       return "machine_frame";
     case RP_EVENT_ARC:
       return "arc";
+    case RP_EVENT_CYCLE:
+      return "cycle";
+    case RP_EVENT_CYCLE_ON:
+      return "cycle_on";
+    case RP_EVENT_CYCLE_OFF:
+      return "cycle_off";
+    case RP_EVENT_HOLE:
+      return "hole";
+    case RP_EVENT_NURBS:
+      return "nurbs";
+    case RP_EVENT_MSYS:
+      return "msys";
+    case RP_EVENT_OPERATOR_TEXT:
+      return "operator_text";
+    case RP_EVENT_CUTCOM:
+      return "cutcom";
+    case RP_EVENT_FROM:
+      return "from";
+    case RP_EVENT_GODLTA:
+      return "godlta";
   }
   return "unknown";
 }

@@ -23,7 +23,7 @@
 
 #include <Eigen/Core>
 
-#include "redpost/cl/reader.hpp"
+#include "redpost/cl/expander.hpp"
 
 namespace redpost::detail {
 

@@ -1,5 +1,6 @@
-// The CL reader's arcs: CIRCLE, checked against the GOTO that ends it, and the arc's chords
-// given out in batches (ClReader::Impl, cl/reader_impl.hpp; the geometry is in cl/arc_chords.hpp).
+// The CL reader's arcs: CIRCLE, checked against the GOTO that ends it, and given out whole as
+// one arc event (ClReader::Impl, cl/reader_impl.hpp; the geometry is in cl/arc_chords.hpp). The
+// expander chords it for hosts that read plain moves; a post session writes a CIRC or chords.
 #include <string>
 #include <string_view>
 
@@ -9,7 +10,6 @@
 namespace redpost {
 
 void ClReader::Impl::on_circle() {
-  check_cycle_not_interrupted();
   split_fields();
   const std::size_t n = fields.size();
   if (n == 13 && is(fields[11], "TIMES"))
@@ -21,17 +21,14 @@ void ClReader::Impl::on_circle() {
             "CIRCLE takes 6 values (xc,yc,zc,i,j,k), 7 (...,r) or 11 (...,r,t,f,d,e), got " +
                 std::to_string(n));
   }
-  if (cycle.active)
-    fail_word("CIRCLE while a CYCLE is active: give CYCLE/OFF first");
-  arc_centre = in_frame_point(point(0));
-  Vector3d a = in_frame_vector(unit_vector(3, "the circle axis"));
+  arc_centre = point(0);
+  const Vector3d a = unit_vector(3, "the circle axis");
   // NX writes the axis "assuming a clockwise direction" (NX CLSF manual, CIRCLE); APT and
   // SolidWorks CAM by the right-hand rule. Keep the right-hand one.
   arc_axis = nx ? Vector3d(-a) : a;
   arc_has_radius = n >= 7;
   if (arc_has_radius) {
     arc_radius_mm = length(fields[6]);
-    arc_radius_offset = fields[6].offset;
     if (!(arc_radius_mm > 0.0))
       fail_at(fields[6].offset,
               "the circle radius must be > 0, got " + std::string(fields[6].text));
@@ -58,11 +55,11 @@ void ClReader::Impl::check_arc_not_interrupted() const {
   }
 }
 
-void ClReader::Impl::start_arc(const Vector3d& end, const Vector3d& tool_axis) {
+void ClReader::Impl::start_arc(const Vector3d& end) {
   arc_pending = false;
   detail::ArcWording wording;
   wording.circle = "the circle of the CIRCLE at line " + std::to_string(arc_line);
-  detail::ArcBuild built =
+  const detail::ArcBuild built =
       detail::make_arc_chords(pos, arc_centre, arc_axis, arc_has_radius ? arc_radius_mm : 0.0, end,
                               opt.point_match_tolerance_mm, opt.chordal_tolerance_mm, wording);
   switch (built.problem) {
@@ -76,41 +73,19 @@ void ClReader::Impl::start_arc(const Vector3d& end, const Vector3d& tool_axis) {
     case detail::ArcProblem::too_many_chords:
       fail_line(arc_line, built.message);
   }
-  if (opt.arcs_as_events) {
-    // One event for the whole arc: the session writes it as a CIRC where it can (its template
-    // set has one and the arc passes the replay), else as the same chords.
-    ClEvent& e = push(ClEventKind::arc, record_line);
-    e.p_mm = end;
-    e.tool_axis = axis;
-    e.arc_centre_mm = arc_centre;
-    e.arc_axis = arc_axis;
-    e.value = arc_has_radius ? arc_radius_mm : 0.0;
-    e.rapid = take_rapid();
-    e.origin = MoveOrigin::arc;
-    pos = end;
-    pos_known = true;
-    return;
-  }
-  arc = built.arc;
-  arc_done = 0;
-  gen_axis = tool_axis;
-  arc_end_axis = axis;
-  gen_rapid = take_rapid();
-  gen_line = record_line;
-  generator = Generator::arc;
+  // One event for the whole arc: the session writes it as a CIRC where it can (its template set
+  // has one and the arc passes the replay), else as chords; the expander chords it for hosts
+  // that read plain moves.
+  ClEvent& e = push(ClEventKind::arc, record_line);
+  e.p_mm = end;
+  e.tool_axis = axis;
+  e.arc_centre_mm = arc_centre;
+  e.arc_axis = arc_axis;
+  e.value = arc_has_radius ? arc_radius_mm : 0.0;
+  e.rapid = take_rapid();
+  e.origin = MoveOrigin::arc;
   pos = end;
   pos_known = true;
-}
-
-void ClReader::Impl::run_arc() {
-  while (queue.size() < kBatch && arc_done < arc.chords) {
-    ++arc_done;
-    const bool last = arc_done == arc.chords;
-    push_move(arc.point(arc_done), last ? arc_end_axis : gen_axis, MoveOrigin::arc, gen_rapid,
-              gen_line);
-  }
-  if (arc_done >= arc.chords)
-    generator = Generator::none;
 }
 
 }  // namespace redpost

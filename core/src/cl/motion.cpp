@@ -20,8 +20,8 @@ ClEvent& ClReader::Impl::push(ClEventKind kind, int line_no) {
   return e;
 }
 
-void ClReader::Impl::push_move(const Vector3d& p, const Vector3d& tool_axis, MoveOrigin origin,
-                               bool rapid, int line_no) {
+ClEvent& ClReader::Impl::push_move(const Vector3d& p, const Vector3d& tool_axis, MoveOrigin origin,
+                                   bool rapid, int line_no) {
   // Most CAM systems write no UNITS record (NX CLSF never does) and mean mm; a file in inches
   // without one would come out 25.4 times too small. Say so once, where it matters.
   if (!units_given)
@@ -33,6 +33,7 @@ void ClReader::Impl::push_move(const Vector3d& p, const Vector3d& tool_axis, Mov
   e.tool_axis = tool_axis;
   e.origin = origin;
   e.rapid = rapid;
+  return e;
 }
 
 void ClReader::Impl::push_feed(double mm_per_min, int line_no) {
@@ -62,52 +63,48 @@ const Vector3d& ClReader::Impl::current_axis() const {
 // ===========================================================================================
 // Motion
 
+// A GOTO (a hole while a drilling cycle is on: the expander decides) or a FROM.
 void ClReader::Impl::on_goto(MoveOrigin origin) {
-  check_cycle_not_interrupted();
   split_fields();
   expect_count(3, 6, "3 values (x,y,z) or 6 (x,y,z,i,j,k)");
   if (fields.size() != 3 && fields.size() != 6)
     fail_at(fields[3].offset, word + " takes 3 values (x,y,z) or 6 (x,y,z,i,j,k), got " +
                                   std::to_string(fields.size()) + " values");
-  if (cycle.active && origin != MoveOrigin::goto_point)
-    fail_word(word + " while a CYCLE is active: only GOTO (a hole) is allowed until CYCLE/OFF");
-  const Vector3d p = in_frame_point(point(0));
-  const Vector3d before_axis = axis;
+  const Vector3d p = point(0);
   if (fields.size() == 6) {
-    axis = in_frame_vector(unit_vector(3, "the tool axis"));
+    axis = unit_vector(3, "the tool axis");
     axis_known = true;
   } else {
     current_axis();
   }
   if (arc_pending && origin == MoveOrigin::goto_point) {
-    start_arc(p, before_axis);
+    start_arc(p);
     return;
   }
-  if (cycle.active) {
-    start_hole(p);
-    return;
-  }
-  pos = p;
-  pos_known = true;
   push_move(p, axis, origin, take_rapid(), record_line);
+  // A hole leaves the tool at its retract height above the point.
+  pos = cycle_on && origin == MoveOrigin::goto_point ? Vector3d(p + cycle_retract_mm * axis) : p;
+  pos_known = true;
 }
 
+// GODLTA/d (along the tool axis) or GODLTA/dx,dy,dz: the expander adds it to where the tool is.
 void ClReader::Impl::on_godlta() {
-  check_cycle_not_interrupted();
   split_fields();
   expect_count(1, 3, "1 value (a distance along the tool axis) or 3 (dx,dy,dz)");
   if (fields.size() == 2)
     fail_word("GODLTA takes 1 value (a distance along the tool axis) or 3 (dx,dy,dz), got 2");
-  if (cycle.active)
-    fail_word("GODLTA while a CYCLE is active: only GOTO (a hole) is allowed until CYCLE/OFF");
   if (!pos_known)
     fail_word("GODLTA needs a known position, but no GOTO or FROM came before it");
-  const Vector3d delta =
-      fields.size() == 1 ? Vector3d(length(fields[0]) * current_axis()) : in_frame_vector(point(0));
-  if (fields.size() == 3)
+  const bool along_axis = fields.size() == 1;
+  const double d = along_axis ? length(fields[0]) : 0.0;
+  const Vector3d delta = along_axis ? Vector3d(d * current_axis()) : point(0);
+  if (!along_axis)
     current_axis();
+  ClEvent& e = push_move(along_axis ? Vector3d::Zero() : delta, axis, MoveOrigin::delta,
+                         take_rapid(), record_line);
+  e.flag = along_axis;
+  e.value = d;
   pos += delta;
-  push_move(pos, axis, MoveOrigin::goto_point, take_rapid(), record_line);
 }
 
 void ClReader::Impl::on_rapid() {
@@ -121,7 +118,7 @@ void ClReader::Impl::on_rapid() {
 void ClReader::Impl::on_tlaxis() {
   split_fields();
   expect_count(3, 3, "3 values (i,j,k); other forms such as TLAXIS/NORMPS are not supported");
-  axis = in_frame_vector(unit_vector(0, "the tool axis"));
+  axis = unit_vector(0, "the tool axis");
   axis_known = true;
 }
 

@@ -3,11 +3,11 @@
 //
 // One record at a time: ClRecordReader (cl/record.cpp) takes physical lines from ClLineSource,
 // joins `$` continuations, strips `$$` comments and finds the major word, and one handler per
-// word turns the record into events. Records that stand for many moves (an arc, a NURBS, a
-// drilling cycle at a hole) start a generator that refills the small event queue in batches of
-// at most kBatch events, so memory does not depend on how many chords an arc needs.
+// word turns the record into toolpath events (cl/event.hpp). Without toolpath_events each goes
+// through the reader's ClExpander, which gives out what an arc, a NURBS or a drilling cycle
+// stands for one event at a time, so memory does not depend on how many chords an arc needs.
 //
-// This file reads the records, hands each to its handler and runs the generators; the handlers
+// This file reads the records, hands each to its handler and drives the expander; the handlers
 // are in one file per kind of record: motion.cpp (the event queue; GOTO, FROM, GODLTA, RAPID,
 // TLAXIS), arcs.cpp (CIRCLE), nurbs.cpp (NURBS, KNOT, CNTRL), cycles.cpp (CYCLE and its holes),
 // settings.cpp (the records that only set machine state: feed, spindle, coolant, tools, units,
@@ -30,15 +30,6 @@
 
 namespace redpost {
 
-std::string chordal_tolerance_problem(double tolerance_mm) {
-  if (std::isfinite(tolerance_mm) && tolerance_mm >= kMinChordalToleranceMm)
-    return {};
-  return fmt::format(
-      "the chordal tolerance (--chordal-tol) must be a number of mm of at least "
-      "{} (0.1 um), got {:.6g}",
-      kMinChordalToleranceMm, tolerance_mm);
-}
-
 ClReader::Impl::Impl(std::istream& in, std::string source_name, ClReaderOptions options)
     : ClRecordReader(in, std::move(source_name), options.max_line_bytes, options.keep_comments),
       opt(options),
@@ -47,7 +38,16 @@ ClReader::Impl::Impl(std::istream& in, std::string source_name, ClReaderOptions 
     throw Error(ErrorCode::bad_input, why);
   if (!(opt.point_match_tolerance_mm > 0.0) || !std::isfinite(opt.point_match_tolerance_mm))
     throw Error(ErrorCode::bad_input, "point match tolerance must be a positive number of mm");
-  queue.reserve(kBatch + 8);
+  queue.reserve(16);
+  if (!opt.toolpath_events) {
+    ClExpanderOptions eo;
+    eo.chordal_tolerance_mm = opt.chordal_tolerance_mm;
+    eo.point_match_tolerance_mm = opt.point_match_tolerance_mm;
+    eo.msys = opt.msys;
+    eo.chord_arcs = !opt.arcs_as_events;
+    expander = std::make_unique<ClExpander>(
+        source, eo, [this](const std::string& w) { warnings.push_back(w); });
+  }
 }
 
 void ClReader::Impl::warn_once(const std::string& key, int line_no, const std::string& message) {
@@ -207,59 +207,13 @@ void ClReader::Impl::on_unknown() {
   push(ClEventKind::unknown_word, record_line).text = word;
 }
 
-// INSERT and PPRINT carry operator text: tool holders, stock sizes, notes. Written into a KRL
-// program as it stands such a line is a syntax error (or, worse, a statement), so it becomes a
-// comment, with a warning that names the line. Only the explicit form INSERT/KRL: statement
-// passes code through; the writer checks that statement before it is written.
+// INSERT and PPRINT carry operator text (tool holders, stock sizes, notes): what becomes of it
+// (a comment, or INSERT/KRL:'s statement) is the expander's business, the same for NX's texts.
 void ClReader::Impl::on_operator_text(bool insert) {
+  ClEvent& e = push(ClEventKind::operator_text, record_line);
   const std::string_view text = trim(raw_args());
-  constexpr std::string_view kPass = "KRL:";
-  if (insert && text.size() >= kPass.size() && iequals(text.substr(0, kPass.size()), kPass)) {
-    const std::string_view code = trim(text.substr(kPass.size()));
-    if (code.empty())
-      fail_word("INSERT/KRL: needs a KRL statement after it (docs/cl-format.md, \"INSERT\")");
-    push_text(ClEventKind::literal, code);
-    return;
-  }
-  push_text(ClEventKind::comment, text);
-  if (insert) {
-    warn_text("INSERT", "INSERT/ text written as a comment, not as KRL code: '" +
-                            std::string(text.substr(0, 60)) + (text.size() > 60 ? "...'" : "'") +
-                            " (to pass a KRL statement through, write INSERT/KRL: statement)");
-  } else {
-    warn_text("PPRINT", "PPRINT/ text written as a comment");
-  }
-}
-
-// One warning per operator-text record, each with its line, up to a cap: a file of thousands of
-// PPRINTs must not bury the other warnings.
-void ClReader::Impl::warn_text(const char* kind, const std::string& message) {
-  constexpr int kMaxTextWarnings = 20;
-  if (text_warnings < kMaxTextWarnings) {
-    ++text_warnings;
-    warnings.push_back(format_error(SourceLocation{source, record_line, 0}, message));
-  } else {
-    warn_once("many operator texts", record_line,
-              std::string("more INSERT/PPRINT text (first not listed: this ") + kind +
-                  "): all written as comments; only the first " + std::to_string(kMaxTextWarnings) +
-                  " are listed");
-  }
-}
-
-void ClReader::Impl::run_generator() {
-  switch (generator) {
-    case Generator::arc:
-      run_arc();
-      break;
-    case Generator::nurbs:
-      run_nurbs();
-      break;
-    case Generator::hole:
-      run_hole();
-      break;
-    case Generator::none:
-      break;
-  }
+  e.text.assign(text.data(), text.size());
+  e.text_kind = insert ? TextKind::insert : TextKind::pprint;
 }
 
 // ===========================================================================================
@@ -273,26 +227,32 @@ ClReader::~ClReader() = default;
 bool ClReader::next(ClEvent& event) {
   Impl& m = *impl_;
   try {
-    while (m.head == m.queue.size()) {
+    for (;;) {
+      if (m.expander && m.expander->next(event))
+        return true;
+      if (m.head < m.queue.size()) {
+        ClEvent& e = m.queue[m.head++];
+        if (!m.expander) {
+          event = std::move(e);
+          return true;
+        }
+        m.expander->push(e);
+        continue;
+      }
       if (m.finished)
         return false;
       m.queue.clear();
       m.head = 0;
-      if (m.generator != Impl::Generator::none)
-        m.run_generator();
-      else
-        m.step();
+      m.step();
     }
   } catch (...) {
     // After an error the stream position is inside a broken record: stop for good.
     m.finished = true;
-    m.generator = Impl::Generator::none;
     m.queue.clear();
     m.head = 0;
+    m.expander.reset();  // what it had left is dropped with it
     throw;
   }
-  event = std::move(m.queue[m.head++]);
-  return true;
 }
 
 const std::deque<std::string>& ClReader::warnings() const {

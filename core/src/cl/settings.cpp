@@ -1,6 +1,6 @@
 // The CL records that only set machine state (ClReader::Impl, cl/reader_impl.hpp): feed, spindle
 // and coolant; tools (LOADTL, LOAD, SELECT, CUTTER, TLDATA, TOOL PATH); units, MULTAX, and the
-// coordinate systems that are only checked (MSYS, CSYS, TRNTYP) or ignored (CUTCOM).
+// coordinate systems that are given out (MSYS) or only checked (CSYS, TRNTYP), and CUTCOM.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -149,7 +149,7 @@ void ClReader::Impl::on_coolnt() {
 // Tools
 
 void ClReader::Impl::push_tool_change(int number_) {
-  interrupt_cycle();
+  cycle_on = false;  // the expander refuses the motion after it if no CYCLE/OFF came
   ClEvent& e = push(ClEventKind::tool_change, record_line);
   e.tool_number = number_;
   e.tool_diameter_mm = tool_diameter_mm;
@@ -233,7 +233,7 @@ void ClReader::Impl::on_tool_path() {
     fail_word("TOOL PATH/ needs the operation's name");
   if (fields.size() >= 3 && is(fields[1], "TOOL"))
     tool_name.assign(fields[2].text.data(), fields[2].text.size());
-  interrupt_cycle();
+  cycle_on = false;
   push_text(ClEventKind::operation_start, fields[0].text);
 }
 
@@ -266,57 +266,16 @@ void ClReader::Impl::on_multax() {
   }
 }
 
-// NX's machine coordinate system (MCS): origin and X, Y axes in NX's absolute frame. NX writes
-// every point, tool axis and circle of the path after it in the MCS ("x,y,z is the center ...
-// in MCS", NX CLSF manual, CIRCLE), docs/cl-format.md "MSYS" gives the evidence. Under
-// MsysMode::ignore the MCS is the workpiece frame that --placement puts in the cell; the MSYS is
-// checked, and a later, different one refused (its operations would be in another frame).
-// Under apply the data are turned into the absolute frame, each operation by its own MSYS.
+// NX's machine coordinate system (MCS): origin and X, Y axes in NX's absolute frame, given out
+// as written; the expander checks it and, under --msys apply, turns the data after it into that
+// frame (cl/expander.cpp, docs/cl-format.md "MSYS").
 void ClReader::Impl::on_msys() {
   split_fields();
   expect_count(9, 9, "9 values (origin x,y,z, X axis i,j,k, Y axis i,j,k)");
-  const Vector3d origin = point(0);
-  const Vector3d x(number(fields[3]), number(fields[4]), number(fields[5]));
-  const Vector3d y(number(fields[6]), number(fields[7]), number(fields[8]));
-  if (std::fabs(x.norm() - 1.0) > 1e-3 || std::fabs(y.norm() - 1.0) > 1e-3 ||
-      std::fabs(x.dot(y)) > 1e-3) {
-    fail_at(fields[3].offset, "MSYS: the X and Y axes must be orthogonal unit vectors");
-  }
-  Eigen::Matrix3d R;
-  R.col(0) = x.normalized();
-  R.col(2) = x.cross(y).normalized();
-  R.col(1) = R.col(2).cross(R.col(0));
-  const bool apply = opt.msys == MsysMode::apply;
-  if (!apply && msys_line != 0 &&
-      ((origin - msys_origin).norm() > opt.point_match_tolerance_mm ||
-       (R - msys_R).cwiseAbs().maxCoeff() > 1e-6)) {
-    fail_word("this MSYS differs from the one at line " + std::to_string(msys_line) +
-              ": the operations after it are in another machine coordinate system, and with "
-              "--msys ignore they would all be placed as if in one. Convert with --msys apply "
-              "(every operation turned into NX's absolute frame), or post each set-up on its own");
-  }
-  if (msys_line == 0 || apply) {
-    msys_line = record_line;
-    msys_R = R;
-    msys_origin = origin;
-  }
-  if (apply) {
-    frame_applied = true;
-    frame_R = R;
-    frame_origin = origin;
-  }
-  ClEvent& e = push(ClEventKind::machine_frame, record_line);
-  e.p_mm = origin;
-  e.tool_axis = R.col(2);
-  e.flag = apply;
-}
-
-// A point or a direction read from the CL data, in the frame the events are given in.
-Eigen::Vector3d ClReader::Impl::in_frame_point(const Vector3d& p) const {
-  return frame_applied ? Eigen::Vector3d(frame_origin + frame_R * p) : p;
-}
-Eigen::Vector3d ClReader::Impl::in_frame_vector(const Vector3d& v) const {
-  return frame_applied ? Eigen::Vector3d(frame_R * v) : v;
+  ClEvent& e = push(ClEventKind::msys, record_line);
+  e.p_mm = point(0);
+  e.msys_x = Vector3d(number(fields[3]), number(fields[4]), number(fields[5]));
+  e.msys_y = Vector3d(number(fields[6]), number(fields[7]), number(fields[8]));
 }
 
 // A 3 x 4 matrix [R | t]. redpost reads only the identity (both layouts in use: rows of
@@ -358,14 +317,12 @@ void ClReader::Impl::on_cutcom() {
   if (fields.empty())
     fail_word("CUTCOM/ needs LEFT, RIGHT or OFF");
   const Field& f = fields[0];
-  if (is(f, "LEFT") || is(f, "RIGHT")) {
-    warn_once("CUTCOM", record_line,
-              "CUTCOM/" + std::string(f.text) +
-                  " ignored: KRL has no cutter radius compensation; redpost takes the CL "
-                  "points as the tool centre (NX: 'centerline data')");
-  } else if (!is(f, "OFF")) {
+  const bool on = is(f, "LEFT") || is(f, "RIGHT");
+  if (!on && !is(f, "OFF"))
     fail_at(f.offset, "CUTCOM: expected LEFT, RIGHT or OFF, got " + std::string(f.text));
-  }
+  ClEvent& e = push(ClEventKind::cutcom, record_line);
+  e.flag = on;
+  e.text = on ? std::string(f.text) : "OFF";
 }
 
 }  // namespace redpost

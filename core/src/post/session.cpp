@@ -34,6 +34,16 @@ KrlProgramInfo program_for(const Cell& cell, KrlProgramInfo info) {
   return info;
 }
 
+// The front door's settings from the session's.
+ClExpanderOptions expander_options(const PostOptions& o) {
+  ClExpanderOptions e;
+  e.chordal_tolerance_mm = o.chordal_tolerance_mm;
+  e.point_match_tolerance_mm = o.arc_point_tolerance_mm;
+  e.msys = o.msys;
+  e.chord_arcs = false;  // the session writes a CIRC or its chords (motion.cpp)
+  return e;
+}
+
 }  // namespace
 
 PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options)
@@ -44,7 +54,9 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       writer(templates, program_for(c, options.program)),
       arm(make_arm_status_model(c)),
       spin_last(last_pure_spin(c)),
-      templates_position_decimals(templates.position_decimals) {
+      templates_position_decimals(templates.position_decimals),
+      front(options.source_name, expander_options(options),
+            [this](const std::string& w) { summary.warnings.push_back(w); }) {
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
       o.rapid_velocity_m_per_s > 2.0) {
     throw Error(ErrorCode::bad_input,
@@ -153,7 +165,7 @@ void PostSession::pump(bool flush) {
       for (std::size_t k = 0; k < n; ++k) {
         const ClEvent e = std::move(m.deferred.front());
         m.deferred.pop_front();
-        handle(e);
+        route(e);
         if (k < end_s.size() && !std::isnan(end_s[k]))
           m.plan_s = end_s[k];
       }
@@ -176,9 +188,16 @@ void PostSession::pump(bool flush) {
   }
 }
 
-void PostSession::handle(const ClEvent& e) {
-  if (defer(e))
-    return;
+void PostSession::handle(const ClEvent& event) {
+  Impl& m = *impl_;
+  m.front.push(event);
+  ClEvent e;
+  while (m.front.next(e))
+    route(e);
+}
+
+// Each call defers itself under the plan (after the checks it makes at once).
+void PostSession::route(const ClEvent& e) {
   switch (e.kind) {
     case ClEventKind::part_name:
       comment("part " + e.text);
@@ -187,7 +206,7 @@ void PostSession::handle(const ClEvent& e) {
       tool_change(e.tool_number, e.text, e.tool_diameter_mm, e.tool_length_mm, e.line);
       break;
     case ClEventKind::spindle:
-      spindle(e.value, e.direction);
+      spindle(e.value, e.direction, e.line);
       break;
     case ClEventKind::feed:
       feed(e.value, e.line);
@@ -196,6 +215,8 @@ void PostSession::handle(const ClEvent& e) {
       rapid();
       break;
     case ClEventKind::move: {
+      if (defer(e))
+        return;
       if (e.rapid)
         rapid();
       ClearancePlane cycle;
@@ -220,9 +241,11 @@ void PostSession::handle(const ClEvent& e) {
       literal(e.text, e.line);
       break;
     case ClEventKind::dwell:
-      dwell(e.value);
+      dwell(e.value, e.line);
       break;
     case ClEventKind::arc:
+      if (defer(e))
+        return;
       if (e.rapid)
         rapid();
       circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line);
@@ -233,6 +256,16 @@ void PostSession::handle(const ClEvent& e) {
     case ClEventKind::unknown_word:
     case ClEventKind::end_of_program:
       break;
+    case ClEventKind::cycle:
+    case ClEventKind::cycle_on:
+    case ClEventKind::cycle_off:
+    case ClEventKind::hole:
+    case ClEventKind::nurbs:
+    case ClEventKind::msys:
+    case ClEventKind::operator_text:
+    case ClEventKind::cutcom:
+      // Toolpath events: the expander has turned them into the plain events above.
+      throw Error(ErrorCode::internal, "a toolpath event reached the session unexpanded");
   }
 }
 
@@ -251,10 +284,17 @@ void PostSession::tool_change(int number, const std::string& name, double diamet
   impl_->tool_change(number, name, length_mm, cl_line);
 }
 
-void PostSession::dwell(double seconds) {
+void PostSession::dwell(double seconds, int cl_line) {
+  if (!std::isfinite(seconds) || seconds < 0.0 || seconds > kMaxDwellSeconds) {
+    throw Error(
+        ErrorCode::bad_input,
+        fmt::format("a dwell of {} s: it must be 0 to {:g} seconds", seconds, kMaxDwellSeconds),
+        SourceLocation{impl_->o.source_name, cl_line, 0});
+  }
   ClEvent e;
   e.kind = ClEventKind::dwell;
   e.value = seconds;
+  e.line = cl_line;
   if (defer(e))
     return;
   impl_->writer.dwell(seconds);
@@ -275,12 +315,14 @@ void PostSession::machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool a
   impl_->msys_z = z_mcs_in_absolute;
 }
 
-void PostSession::spindle(double rpm, SpindleDirection direction) {
+void PostSession::spindle(double rpm, SpindleDirection direction, int cl_line) {
   if (!std::isfinite(rpm) || rpm < 0.0) {
-    throw Error(ErrorCode::bad_input, fmt::format("spindle speed {} rpm is not valid", rpm));
+    throw Error(ErrorCode::bad_input, fmt::format("spindle speed {} rpm is not valid", rpm),
+                SourceLocation{impl_->o.source_name, cl_line, 0});
   }
   ClEvent e;
   e.kind = ClEventKind::spindle;
+  e.line = cl_line;
   e.value = rpm;
   e.direction = direction;
   if (defer(e))

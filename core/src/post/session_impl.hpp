@@ -172,6 +172,9 @@ struct PostSession::Impl {
   std::vector<JointVector> plan_q;
   double plan_s = 0.0;
 
+  // The front door (cl/expander.hpp): every event of handle() goes through it first.
+  ClExpander front;
+
   Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options);
 
   // --- motion.cpp ----------------------------------------------------------------------------

@@ -1,11 +1,19 @@
-// Events of a CL (cutter location) stream, as the APT/CLSF reader produces them and as every
-// front end (CL file, NX event handlers, C hosts) feeds them to a post session.
+// Events of a CL (cutter location) stream: the one event model of every front end (the APT/CLSF
+// reader, NX's postprocessor through the Tcl handlers, C hosts) and of the post session.
 //
-// Positions are in mm in the CL file's coordinate system (the workpiece frame); the reader has
-// already converted inches, linearised arcs and NURBS, and expanded drilling cycles into moves.
+// Two layers. The front ends give the *toolpath events* (all kinds below): a drilling cycle and
+// its holes, a NURBS, NX's MSYS, operator text, cutter compensation, as the CL file or NX says
+// them. ClExpander (cl/expander.hpp) turns them into the *plain events* a post session tracks
+// (moves, arcs, feeds, dwells, comments, literals, ...), the same way for every front end, so
+// that the same toolpath gives the same program whichever way it came in.
+//
+// Positions are in mm in the CL frame (the workpiece frame: NX's MCS, or under MsysMode::apply
+// NX's absolute frame once expanded); the reader has already converted inches.
 #pragma once
 
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "redpost/kinematics/types.hpp"
 
@@ -27,16 +35,57 @@ enum class ClEventKind {
   arc,              // CIRCLE + GOTO as one event (ClReaderOptions::arcs_as_events): p_mm the end,
                     // tool_axis the end's, arc_centre_mm, arc_axis (right-hand rule), value the
                     // radius (0: from the start)
-  machine_frame,    // NX MSYS: p_mm = origin, tool_axis = the MCS z axis, both in NX's absolute
-                    // frame; flag = the CL data after it are turned into that frame (--msys apply)
+  machine_frame,    // NX MSYS as expanded: p_mm = origin, tool_axis = the MCS z axis, both in NX's
+                    // absolute frame; flag = the CL data after it are turned into that frame
   unknown_word,     // a major word the reader does not know: text = the word (first time only)
   end_of_program,   // FINI / END
+
+  // Toolpath events, expanded by ClExpander into the plain ones above.
+  cycle,          // CYCLE/DRILL..., NX's MOM_drill*: `cycle` defined and switched on; text = its
+                  // name for messages ("CYCLE/DRILL")
+  cycle_on,       // CYCLE/ON: the last cycle defined on again
+  cycle_off,      // CYCLE/OFF, NX's MOM_cycle_off
+  hole,           // NX's MOM_drill_move: a hole of the active cycle at p_mm (its top), tool_axis
+                  // (a plain move's GOTO while a cycle is on is a hole too, as in APT)
+  nurbs,          // NURBS/ with its KNOT/ and CNTRL/, NX's MOM_nurbs_move: from the current point
+                  // through `nurbs_knots` and `nurbs_points` as given (docs/cl-format.md)
+  msys,           // NX's MSYS / MOM_msys as given: p_mm = origin, msys_x and msys_y the MCS's X
+                  // and Y axes in NX's absolute frame
+  operator_text,  // INSERT, PPRINT, NX's MOM_insert / MOM_pprint / MOM_operator_message: text, as
+                  // `text_kind` says; only INSERT's "KRL: statement" passes code through
+  cutcom,         // CUTCOM/, NX's MOM_cutcom_on/off: flag on, text = LEFT, RIGHT or ON
 };
 
 enum class SpindleDirection { clockwise, counter_clockwise, off };
 
-// Where a move came from, for the CL line comments and the joints CSV.
-enum class MoveOrigin { goto_point, from_point, arc, nurbs, cycle };
+// Where a move came from. A goto_point while a drilling cycle is on is a hole of it; a FROM or
+// a GODLTA (delta) there is refused.
+enum class MoveOrigin { goto_point, from_point, arc, nurbs, cycle, delta };
+
+// The longest dwell accepted (s): a longer one is a typo (a value in milliseconds, or
+// revolutions), and the spindle would run for minutes at the hole's bottom.
+inline constexpr double kMaxDwellSeconds = 600.0;
+
+// What operator text is (ClEventKind::operator_text).
+enum class TextKind { insert, pprint, message };
+
+// A drilling cycle as its definition gives it (CYCLE/DRILL..., NX's MOM_drill*). Lengths in mm
+// along the tool axis from the hole's point (its top); NaN where the definition gives none.
+struct ClCycle {
+  bool deep = false;  // pecking: a full retract to the clearance between pecks
+  double depth_mm = std::numeric_limits<double>::quiet_NaN();         // FEDTO: below the point
+  double clearance_mm = std::numeric_limits<double>::quiet_NaN();     // RAPTO: above it
+  double retract_mm = std::numeric_limits<double>::quiet_NaN();       // RTRCTO; NaN: RAPTO's
+  double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();  // NaN: the feed in force
+  double dwell_s = 0.0;                                               // at the hole's bottom
+  double first_peck_mm = std::numeric_limits<double>::quiet_NaN();    // 1STPECK
+  double next_peck_mm = std::numeric_limits<double>::quiet_NaN();     // SUBPECK; NaN: 1STPECK's
+};
+
+// A NURBS control point as given: cartesian, with its weight.
+struct ClNurbsPoint {
+  double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
+};
 
 struct ClEvent {
   ClEventKind kind = ClEventKind::move;
@@ -66,11 +115,23 @@ struct ClEvent {
   double value = 0.0;
   SpindleDirection direction = SpindleDirection::off;
 
-  // coolant
+  // coolant, cutcom
   bool flag = false;
 
-  // part_name, tool name, operation names, comments, literals, unknown words
+  // part_name, tool name, operation names, comments, literals, unknown words, operator text
   std::string text;
+  TextKind text_kind = TextKind::insert;
+
+  // cycle
+  ClCycle cycle;
+
+  // nurbs: the knots and control points as written (empty for every other kind)
+  std::vector<double> nurbs_knots;
+  std::vector<ClNurbsPoint> nurbs_points;
+
+  // msys
+  Eigen::Vector3d msys_x = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d msys_y = Eigen::Vector3d::UnitY();
 };
 
 }  // namespace redpost

@@ -1,9 +1,13 @@
 // A streaming reader for ISO APT/CLDATA and the NX CLSF dialect (docs/cl-format.md).
 //
 // It reads one record at a time from a std::istream (never the whole file), joins `$`
-// continuation lines, and turns each record into zero or more ClEvents: arcs and NURBS come out
-// as linear moves within the chordal tolerance, drilling cycles as the moves they stand for.
-// Malformed records throw Error(bad_input) with "file:line:column: message".
+// continuation lines, and turns each record into the toolpath events it says (cl/event.hpp):
+// a drilling cycle and its holes, a NURBS with its knots and control points, NX's MSYS, operator
+// text. With ClReaderOptions::toolpath_events these are what next() gives, for a post session to
+// expand (redpost convert); else they go through a ClExpander here and come out plain: arcs and
+// NURBS as linear moves within the chordal tolerance, drilling cycles as the moves they stand
+// for. Malformed records throw Error(bad_input) with "file:line:column: message"; what the
+// expander refuses, with "file:line: message".
 #pragma once
 
 #include <cstddef>
@@ -13,6 +17,7 @@
 #include <string>
 
 #include "redpost/cl/event.hpp"
+#include "redpost/cl/expander.hpp"
 
 namespace redpost {
 
@@ -23,23 +28,6 @@ enum class ClDialect {
   apt,        // ISO APT, SolidWorks CAM: a CIRCLE axis gives the direction by the right-hand rule
   nx_clsf,    // Siemens NX CLSF: the CIRCLE axis is written "assuming a clockwise direction"
 };
-
-// What NX's MSYS record means for the CL data after it (docs/cl-format.md, "MSYS").
-enum class MsysMode {
-  ignore,  // the data stay in NX's machine coordinate system (MCS), the workpiece frame; every
-           // MSYS of the file must then be the same
-  apply,   // points and vectors are turned into NX's absolute frame: p_abs = origin + R p_mcs
-};
-
-// The finest chordal tolerance accepted: 0.1 um, far below what an arm repeats to (some 20 um),
-// and the most chords one arc or NURBS may become. Beyond them a typo in the tolerance would
-// write gigabytes of KRL, or run for ever.
-inline constexpr double kMinChordalToleranceMm = 1e-4;
-inline constexpr long kMaxCurveChords = 1'000'000;
-
-// "" when `tolerance_mm` is a finite number of at least kMinChordalToleranceMm, else what is
-// wrong, naming --chordal-tol.
-std::string chordal_tolerance_problem(double tolerance_mm);
 
 struct ClReaderOptions {
   double chordal_tolerance_mm = 0.01;  // arcs and NURBS are split so that no chord strays further
@@ -57,6 +45,10 @@ struct ClReaderOptions {
   // CIRCLE + GOTO as one ClEventKind::arc instead of its chords (the post session chords it, or
   // writes a CIRC).
   bool arcs_as_events = false;
+  // The toolpath events as the file gives them, unexpanded, for a post session, which expands
+  // them with its own ClExpander (and its own MSYS mode: `msys` is not used then); arcs come
+  // whole. The same toolpath from NX's postprocessor then goes through the same expansion.
+  bool toolpath_events = false;
 };
 
 class ClReader {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "redpost/cl/event.hpp"
+#include "redpost/cl/expander.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/tool_table.hpp"
@@ -110,6 +111,9 @@ struct PostOptions {
   // arc_point_tolerance_mm.
   double chordal_tolerance_mm = 0.01;
   double arc_point_tolerance_mm = 0.005;
+  // NX's MSYS (cl/expander.hpp): the MCS is the workpiece frame (ignore), or every point after an
+  // MSYS is turned into NX's absolute frame (apply).
+  MsysMode msys = MsysMode::ignore;
   // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
   double default_feed_mm_per_min = 1000.0;
   // Rapids (docs/convert.md, "Rapids"): below a clearance plane a rapid follows the straight
@@ -224,37 +228,11 @@ class PostSession {
   PostSession(const PostSession&) = delete;
   PostSession& operator=(const PostSession&) = delete;
 
-  // Dispatches one event of a CL stream to the calls below.
+  // One event of the toolpath (cl/event.hpp), from any front end: expanded by the session's
+  // ClExpander (drilling cycles, NURBS, MSYS, operator text) and tracked. Throws Error with the
+  // event's line; under the global plan a motion's tracking (and its error) may come a few
+  // events later.
   void handle(const ClEvent& event);
-
-  // A tool change at CL line `cl_line` (docs/tools.md): the tool's TOOL_DATA and TCP from the
-  // tool table; a retract along the tool axis to the clearance plane first, a PTP approach to
-  // the next move after.
-  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm,
-                   int cl_line = 0);
-  void spindle(double rpm, SpindleDirection direction);
-  // A feed the controller can take: $VEL.CP within (0, 2] m/s and not 0 at the template set's
-  // decimals; else Error(bad_input) at cl_line.
-  void feed(double mm_per_min, int cl_line = 0);
-  void rapid();  // the next move is a rapid traverse
-  void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
-  // An arc from the last move's CL point to p_mm about the axis through `centre`, turning by the
-  // right-hand rule (a helix if the height along the axis changes), written as the moves of its
-  // chords within PostOptions::chordal_tolerance_mm. radius_mm > 0 is checked against the start;
-  // 0: taken from the start. The chords keep the previous tool axis, the last one takes
-  // `tool_axis`, as the CL reader does for CIRCLE.
-  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
-                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
-  void coolant(bool on, const std::string& mode);
-  void dwell(double seconds);
-  // NX's MSYS as the reader saw it (ClEventKind::machine_frame): remembered for the messages.
-  void machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool applied, int cl_line);
-  void operation_start(const std::string& name);
-  void operation_end();
-  void comment(const std::string& text);
-  // KRL code passed through: refused (Error bad_input at cl_line) unless it is one statement of
-  // the kinds redpost checks (krl/statement.hpp: assignment, WAIT, HALT, a routine call).
-  void literal(const std::string& text, int cl_line = 0);
 
   // Completes the program and the joints log, flushed to the disk but not renamed, and returns
   // the summary (complete but for `files`): every check has run, and a full disk has shown.
@@ -271,6 +249,39 @@ class PostSession {
   const Cell& cell() const;
 
  private:
+  // A plain event (the expander's output) to the calls below.
+  void route(const ClEvent& event);
+
+  // A tool change at CL line `cl_line` (docs/tools.md): the tool's TOOL_DATA and TCP from the
+  // tool table; a retract along the tool axis to the clearance plane first, a PTP approach to
+  // the next move after.
+  void tool_change(int number, const std::string& name, double diameter_mm, double length_mm,
+                   int cl_line = 0);
+  void spindle(double rpm, SpindleDirection direction, int cl_line = 0);
+  // A feed the controller can take: $VEL.CP within (0, 2] m/s and not 0 at the template set's
+  // decimals; else Error(bad_input) at cl_line.
+  void feed(double mm_per_min, int cl_line = 0);
+  void rapid();  // the next move is a rapid traverse
+  void move(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  // An arc from the last move's CL point to p_mm about the axis through `centre`, turning by the
+  // right-hand rule (a helix if the height along the axis changes), written as the moves of its
+  // chords within PostOptions::chordal_tolerance_mm. radius_mm > 0 is checked against the start;
+  // 0: taken from the start. The chords keep the previous tool axis, the last one takes
+  // `tool_axis`, as the CL reader does for CIRCLE.
+  void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+  void coolant(bool on, const std::string& mode);
+  // A dwell (a drilling cycle's, NX's MOM_delay): 0 to kMaxDwellSeconds.
+  void dwell(double seconds, int cl_line = 0);
+  // NX's MSYS as the reader saw it (ClEventKind::machine_frame): remembered for the messages.
+  void machine_frame(const Eigen::Vector3d& z_mcs_in_absolute, bool applied, int cl_line);
+  void operation_start(const std::string& name);
+  void operation_end();
+  void comment(const std::string& text);
+  // KRL code passed through: refused (Error bad_input at cl_line) unless it is one statement of
+  // the kinds redpost checks (krl/statement.hpp: assignment, WAIT, HALT, a routine call).
+  void literal(const std::string& text, int cl_line = 0);
+
   // Under PostOptions::plan global: buffers the call (true) and releases what a plan covers.
   bool defer(const ClEvent& event);
   void pump(bool flush);
