@@ -17,7 +17,7 @@
 #include "redpost/kinematics/jacobian.hpp"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/scene3d.hpp"
-#include "scene_cell.hpp"
+#include "report/scene_cell.hpp"
 
 namespace redpost::cli {
 
@@ -83,13 +83,14 @@ void add_scene_section(rep::HtmlReport& html, const CalibrationPlanReportInput& 
   quantities[0] = {"plane (x 0, y 1, z 2)", "", true, kNaN, "", true};
   quantities[1] = {"1/kappa_F", "", true, kNaN, ""};
   quantities[2] = {"closest joint limit", "% of the joint's range", true, 10.0, "limit zone"};
-  rep::Scene3dRecorder rec(scene_cell_of(cell, Isometry::Identity()), quantities);
+  rep::Scene3dRecorder rec(run_report::scene_cell_of(cell, Isometry::Identity()), quantities);
   KinematicsData data;
   Jacobian J(6, cell.size());
   for (std::size_t i = 0; i < in.points->size(); ++i) {
     const CalibrationPoint& p = (*in.points)[i];
     forward_kinematics(cell, p.q, data);
-    double values[3] = {static_cast<double>(p.plane), kNaN, closest_limit(cell, p.q).percent};
+    double values[3] = {static_cast<double>(p.plane), kNaN,
+                        run_report::closest_limit(cell, p.q).percent};
     if (cell.conditioning.declared()) {
       tcp_jacobian(cell, data, J);
       values[1] = arm_inverse_condition(cell, J);
@@ -134,7 +135,7 @@ std::string calibration_plan_report_html(const CalibrationPlanReportInput& in) {
   long near = 0;
   std::string which;
   for (std::size_t i = 0; i < in.points->size(); ++i) {
-    const LimitMargin m = closest_limit(*in.cell, (*in.points)[i].q);
+    const run_report::LimitMargin m = run_report::closest_limit(*in.cell, (*in.points)[i].q);
     if (m.percent < 5.0) {
       which += fmt::format("{}{} ({} at {:.1f} %)", near ? ", " : "", i + 1,
                            in.cell->joint(m.joint).name, m.percent);

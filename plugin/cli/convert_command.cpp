@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "convert_report.hpp"
 #include "redpost.h"
 #include "redpost/io/durable_write.hpp"
 #include "redpost/io/output_target.hpp"
+#include "report/convert_report.hpp"
 
 namespace redpost::cli {
 
@@ -186,11 +186,11 @@ void print_timing(const rp_session* session) {
   t.struct_size = sizeof t;
   if (rp_timing_get(session, &t) != RP_OK)
     return;
-  std::string line = "cycle time " + duration_text(t.cycle_time_s);
+  std::string line = "cycle time " + run_report::duration_text(t.cycle_time_s);
   if (t.feed_time_s > 0.0) {
-    line +=
-        fmt::format(" (cutting {}, {:+.1f} % on the CL feeds' {})", duration_text(t.cutting_time_s),
-                    100.0 * (t.cutting_time_s / t.feed_time_s - 1.0), duration_text(t.feed_time_s));
+    line += fmt::format(
+        " (cutting {}, {:+.1f} % on the CL feeds' {})", run_report::duration_text(t.cutting_time_s),
+        100.0 * (t.cutting_time_s / t.feed_time_s - 1.0), run_report::duration_text(t.feed_time_s));
   }
   if (t.untimed_tool_changes > 0)
     line += fmt::format(", without the time of {} tool change(s)", t.untimed_tool_changes);
@@ -360,6 +360,7 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
   o.cutting_path = opt.cutting_path.empty() ? nullptr : opt.cutting_path.c_str();
   o.deflection_tolerance_mm = opt.deflection_tolerance_mm;
   o.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
+  o.report_path = opt.report_html.empty() ? nullptr : opt.report_html.c_str();
 }
 
 int run_convert(const ConvertOptions& opt) {
@@ -385,10 +386,6 @@ int run_convert(const ConvertOptions& opt) {
   }
   if (const rp_status st = rp_open(&o, &h.session); st != RP_OK)
     return report(st, program_name_message(opt, rp_last_error(nullptr)));
-  // The observer is attached only for --report: without it the session makes no samples.
-  std::unique_ptr<ConvertReport> html;
-  if (!opt.report_html.empty())
-    html = std::make_unique<ConvertReport>(h.session);
 
   const bool progress = !opt.quiet && ::isatty(STDERR_FILENO) == 1;
   auto last_report = std::chrono::steady_clock::now();
@@ -420,28 +417,17 @@ int run_convert(const ConvertOptions& opt) {
     if (const rp_status st = rp_warn(h.session, w); st != RP_OK)
       return report(st, rp_last_error(h.session));
   }
-  // Everything is written and flushed before anything is renamed: the report too, so that a
-  // full disk or a bad report path stops the run with an old program of the name still whole.
+  // Everything is written and flushed before anything is renamed: the report too (the library
+  // writes it), so that a full disk or a bad report path stops the run with an old program of
+  // the name still whole.
   if (const rp_status st = rp_prepare(h.session); st != RP_OK)
     return report(st, rp_last_error(h.session));
   for (int i = 0; const char* w = rp_warning(h.session, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::optional<PreparedTexts> report_file;
-  if (html) {
-    ConvertReportContext context;
-    context.input = opt.input;
-    context.cell = opt.cell_path;
-    context.program = name;
-    context.seconds = seconds;
-    report_file.emplace(std::vector<TextOutput>{
-        TextOutput{opt.report_html, html->html(opt.report_html, h.session, context)}});
-  }
   if (const rp_status st = rp_close(h.session); st != RP_OK)
     return report(st, rp_last_error(h.session));
-  if (report_file)
-    report_file->commit();
   if (!opt.quiet)
     print_summary(h.session, seconds);
   return kExitOk;

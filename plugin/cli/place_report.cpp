@@ -10,7 +10,7 @@
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/scene3d.hpp"
-#include "scene_cell.hpp"
+#include "report/scene_cell.hpp"
 
 namespace redpost::cli {
 
@@ -253,7 +253,7 @@ void add_scene_section(rep::HtmlReport& html, const PlacementReportInput& in) {
   quantities[0] = {"c_i (eq. 5.1)", "mm", false, pb.job().constraints.c_max_mm, "c_max"};
   quantities[1] = {"1/kappa_F", "", true, pb.job().constraints.inv_kappa_min, "the minimum"};
   quantities[2] = {"closest joint limit", "% of the joint's range", true, 10.0, "limit zone"};
-  rep::Scene3dRecorder rec(scene_cell_of(cell, T_B_W), quantities);
+  rep::Scene3dRecorder rec(run_report::scene_cell_of(cell, T_B_W), quantities);
   for (std::size_t i = 0; i < in.q_path->size() && i < pb.path().size(); ++i) {
     const JointVector& q = (*in.q_path)[i];
     const int seg = pb.path()[i].segment;
@@ -265,7 +265,7 @@ void add_scene_section(rep::HtmlReport& html, const PlacementReportInput& in) {
     pb.deflection_mm(q, w_B, y_B, &values[1]);
     values[0] = in.map_best->c(static_cast<int>(i), plan.beta_index[i],
                                plan.mu[static_cast<std::size_t>(seg)]);
-    values[2] = closest_limit(cell, q).percent;
+    values[2] = run_report::closest_limit(cell, q).percent;
     const Eigen::Vector3d tcp_W = T_W_B * tcp_pose(cell, q).translation();
     rep::SceneMotion m;
     m.index = static_cast<long>(i) + 1;

@@ -219,7 +219,8 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
                                    {"the CL input", source}},
                                   {{"the program's .src", program_file(".src")},
                                    {"the program's .dat", program_file(".dat")},
-                                   {"the joints CSV", o.joints_csv_path ? o.joints_csv_path : ""}});
+                                   {"the joints CSV", o.joints_csv_path ? o.joints_csv_path : ""},
+                                   {"the report", o.report_path ? o.report_path : ""}});
 
     s = std::make_unique<rp_session>();
     s->cell = redpost::load_cell(cell_path);
@@ -279,6 +280,10 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     set_deflection_options(o, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
     s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
+    s->source = source;
+    s->cell_path = cell_path;
+    s->program = name;
+    open_report(s.get(), o);
   });
   if (st == RP_OK)
     *session = s.release();
@@ -306,11 +311,15 @@ rp_status end_session(rp_session* session, bool commit) {
     }
     if (!commit && session->state == State::prepared)
       throw AbiError{RP_ERR_STATE, "prepare refused: the session is already prepared"};
+    if (session->state != State::prepared) {
+      session->post->prepare();
+      prepare_report(session);
+    }
     if (commit) {
       session->post->finish();
+      commit_report(session);
       session->state = State::closed;
     } else {
-      session->post->prepare();
       session->state = State::prepared;
     }
   });
@@ -429,80 +438,6 @@ RP_API rp_status rp_joint_range(const rp_session* session, int index, rp_joint_r
     }
     out.axis_name = static_axis_name(j.axis);
     *range = out;
-  });
-}
-
-RP_API rp_status rp_set_motion_observer(rp_session* session, rp_motion_observer fn, void* user) {
-  if (!session)
-    return null_handle("the session");
-  return guard(session->error, "", [&] {
-    if (session->state != rp_session::State::open || !session->post) {
-      throw AbiError{RP_ERR_STATE,
-                     "rp_set_motion_observer: the session is not open (closed or failed)"};
-    }
-    if (!fn) {
-      session->post->set_motion_observer({});
-      return;
-    }
-    const double threshold = session->conditioning_threshold;
-    // Filled on the stack per motion: no allocation on the per-pose path.
-    session->post->set_motion_observer([fn, user, threshold](const redpost::MotionSample& m) {
-      rp_motion out;
-      std::memset(&out, 0, sizeof out);
-      out.struct_size = sizeof out;
-      out.index = m.index;
-      switch (m.kind) {
-        case redpost::KrlMotionKind::ptp_axes:
-          out.kind = RP_MOTION_PTP;
-          break;
-        case redpost::KrlMotionKind::rapid:
-          out.kind = RP_MOTION_RAPID;
-          break;
-        case redpost::KrlMotionKind::lin:
-          out.kind = RP_MOTION_LIN;
-          break;
-      }
-      out.line = m.cl_line;
-      out.joint_count = static_cast<int>(m.q->size());
-      for (int i = 0; i < out.joint_count && i < 16; ++i)
-        out.joints[i] = (*m.q)[i];
-      for (int i = 0; i < 12; ++i)
-        out.axes[i] = m.axes->value[static_cast<std::size_t>(i)];
-      out.inv_condition = m.inv_condition;
-      out.conditioning_threshold = threshold;
-      out.iterations = m.iterations;
-      out.feed_mm_per_min = m.feed_mm_per_min;
-      for (int i = 0; i < 3; ++i)
-        out.tcp[i] = m.p_part_mm[i];
-      out.time_s = m.time_s;
-      out.duration_s = m.duration_s;
-      out.speed_mm_s = m.speed_mm_s;
-      out.asked_mm_s = m.asked_mm_s;
-      out.command_mm_s = m.command_mm_s;
-      out.limit = redpost::to_string(m.limit);
-      out.limit_joint = m.limit_joint;
-      for (int i = 0; i < out.joint_count && i < 16; ++i)
-        out.speed_fraction[i] = m.speed_fraction ? (*m.speed_fraction)[i] : 0.0;
-      out.planned = m.q_plan ? 1 : 0;
-      for (int i = 0; m.q_plan && i < out.joint_count && i < 16; ++i)
-        out.planned_joints[i] = (*m.q_plan)[i];
-      if (const redpost::MotionDeflection* d = m.deflection) {
-        out.has_deflection = 1;
-        for (int i = 0; i < 3; ++i) {
-          out.deflection_mm[i] = d->translation_mm[i];
-          out.deflection_rotation_rad[i] = d->rotation_rad[i];
-        }
-        out.deflection_normal_mm = d->normal_mm;
-        out.cutting_force_N = d->force_N;
-        out.compensation_mm = d->compensation_mm;
-        out.residual_mm = d->residual_mm;
-        out.residual_normal_mm = d->residual_normal_mm;
-        out.compensation_iterations = d->iterations;
-      }
-      out.tool_length_mm = m.tool_length_mm;
-      out.tcp_shift_mm = m.tcp_shift_mm;
-      fn(&out, user);
-    });
   });
 }
 

@@ -5,6 +5,7 @@
 // Internal to libredpost; not installed.
 #pragma once
 
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -17,9 +18,11 @@
 
 #include "redpost.h"
 #include "redpost/cl/reader.hpp"
+#include "redpost/io/durable_write.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/krl/template.hpp"
 #include "redpost/post/session.hpp"
+#include "report/convert_report.hpp"
 
 namespace redpost::abi {
 
@@ -102,6 +105,15 @@ std::string template_set_path(const char* given);
 inline Eigen::Vector3d vec(double x, double y, double z) {
   return Eigen::Vector3d(x, y, z);
 }
+
+// The motion observer and the report (abi_report.cpp).
+void install_observer(rp_session* session);
+// rp_open: the report's target checked and its recorder made, when options ask for one.
+void open_report(rp_session* session, const rp_options& o);
+// After the program is prepared: the report written to its temporary (nothing without one).
+void prepare_report(rp_session* session);
+// After the program's rename: the report's.
+void commit_report(rp_session* session);
 
 // A query struct the host hands in (rp_timing, rp_cell_info, ...): its struct_size must be set
 // and not beyond this library's struct.
@@ -207,6 +219,14 @@ struct rp_session {
   std::optional<redpost::PoseResult> pose_kept;
   double conditioning_threshold = 0.0;     // the tracker's, for rp_motion
   std::vector<std::string> host_warnings;  // rp_warn's, listed before the session's own
+  // The host's observer, and the report (rp_options.report_path), both fed by one observer.
+  rp_motion_observer host_observer = nullptr;
+  void* host_user = nullptr;
+  std::string source, cell_path, program;  // as given, for the report
+  std::chrono::steady_clock::time_point opened = std::chrono::steady_clock::now();
+  std::string report_path;
+  std::unique_ptr<redpost::run_report::ConvertReport> report;
+  std::optional<redpost::PreparedTexts> report_file;
 
   // Warning number index: the host's, then the session's; NULL past the end.
   const char* warning(std::size_t index) const {
@@ -224,6 +244,7 @@ struct rp_session {
 
   // Dropping the PostSession removes its temporary files; the diagnostics are copied first.
   void abandon() {
+    report_file.reset();  // removes the report's temporary
     if (!post)
       return;
     summary_kept = post->summary();

@@ -20,7 +20,7 @@
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/plot_scale.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 namespace {
 
@@ -209,8 +209,6 @@ struct ConvertReport::Impl {
     deflection.on_motion(m);
     scene->on_motion(m);
   }
-
-  static void observe(const rp_motion* m, void* user) { static_cast<Impl*>(user)->on_motion(*m); }
 };
 
 ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>()) {
@@ -234,10 +232,10 @@ ConvertReport::ConvertReport(rp_session* session) : impl_(std::make_unique<Impl>
     impl_->plan_deviation.push_back(0.0);
   }
   impl_->scene.emplace(session);
-  if (rp_set_motion_observer(session, &Impl::observe, impl_.get()) != RP_OK) {
-    throw Error(ErrorCode::internal,
-                std::string("cannot watch the motions for the report: ") + rp_last_error(session));
-  }
+}
+
+void ConvertReport::on_motion(const rp_motion& m) {
+  impl_->on_motion(m);
 }
 
 ConvertReport::~ConvertReport() = default;
@@ -317,8 +315,8 @@ std::vector<Limits> add_joint_ranges_section(rep::HtmlReport& r, const ConvertRe
 
 // The run's warnings (the host's, then the session's); returns how many there are and how many are
 // shown.
-std::pair<std::size_t, std::size_t> add_run_warnings(rep::HtmlReport& r, const rp_session* session,
-                                                     const ConvertReportContext& context) {
+std::pair<std::size_t, std::size_t> add_run_warnings(rep::HtmlReport& r,
+                                                     const rp_session* session) {
   // Every warning up to a screenful; the rest are counted (the terminal printed them all).
   constexpr std::size_t kMaxWarnings = 50;
   std::size_t shown = 0;
@@ -606,7 +604,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     rep::HtmlReport r("redpost convert: " + context.program);
     add_summary(r, summary, context);
     const std::vector<Limits> limits = add_joint_ranges_section(r, d, session);
-    const auto [run_total, run_shown] = add_run_warnings(r, session, context);
+    const auto [run_total, run_shown] = add_run_warnings(r, session);
     add_decimation_note(r, d);
     add_joints_section(r, d, limits);
     add_speed_section(r, d, session);
@@ -636,4 +634,4 @@ std::string duration_text(double s) {
   return fmt::format("{} h {} min {:.0f} s", minutes / 60, minutes % 60, s - 60.0 * minutes);
 }
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

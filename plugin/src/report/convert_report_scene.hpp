@@ -10,7 +10,7 @@
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/scene3d.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 class SceneTrace {
  public:
@@ -29,4 +29,4 @@ class SceneTrace {
   double conditioning_threshold_ = 0.0;
 };
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -7,7 +7,7 @@
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/report/scene3d.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 // Through rp_cell_info_get and rp_link_get. Throws Error when the ABI refuses.
 report::SceneCell scene_cell_of(const rp_session* session);
@@ -27,4 +27,4 @@ LimitMargin closest_limit(const Cell& cell, const JointVector& q);
 // (<controller><kinematic type="base">), none without one.
 int positioner_joints(int coupled_base_joint);
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -11,7 +11,7 @@
 
 #include "scene_cell.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 namespace {
 
@@ -105,4 +105,4 @@ void SceneTrace::add_section(rep::HtmlReport& r, const rp_session* session) cons
   r.add_scene3d(scene);
 }
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -10,7 +10,7 @@
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/plot_scale.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 class DeflectionTrace {
  public:
@@ -32,4 +32,4 @@ class DeflectionTrace {
   bool gap_pending_ = false;  // a finite sample was pushed since the last break
 };
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -1,8 +1,9 @@
-// The HTML report of `redpost convert --report` (issue 9): what the conversion did to the cell,
-// motion by motion, drawn with redpost::report.
+// The HTML report of a session (rp_options.report_path: `redpost convert --report`, the NX
+// handlers' `report` setting; issue 9): what the conversion did to the cell, motion by motion,
+// drawn with redpost::report.
 //
-// The samples come through the C ABI's motion observer (rp_set_motion_observer), like any
-// host would get them, and are streamed into bounded summaries as they arrive: min/max
+// The samples are the rp_motion a host's motion observer gets, and are streamed into bounded
+// summaries as they arrive: min/max
 // decimators for the plots against the motion index and a thinned point list for the toolpath
 // views. Memory does not grow with the length of the run (a 1M-pose convert included).
 #pragma once
@@ -13,7 +14,7 @@
 
 #include "redpost.h"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 // What the report says about the run besides the samples.
 struct ConvertReportContext {
@@ -25,12 +26,15 @@ struct ConvertReportContext {
 
 class ConvertReport {
  public:
-  // Reads the session's joints (rp_joint_range) and attaches the observer. The session must
-  // be open; the report must outlive the events sent to it. Throws Error when the ABI refuses.
+  // Reads the session's joints (rp_joint_range) and its cell. The session must be open; it
+  // gives the report every motion (on_motion, from rp_session's observer). Throws Error when the
+  // ABI refuses.
   explicit ConvertReport(rp_session* session);
   ~ConvertReport();
   ConvertReport(const ConvertReport&) = delete;
   ConvertReport& operator=(const ConvertReport&) = delete;
+
+  void on_motion(const rp_motion& m);
 
   // After a successful rp_prepare: the report's HTML. The caller writes it to `path` (which
   // errors name) before rp_close, so that a report that cannot be written stops the run with
@@ -47,4 +51,4 @@ class ConvertReport {
 // A duration as the summary and the report print it: "42.0 s", "3 min 5.2 s", "2 h 56 min 5 s".
 std::string duration_text(double s);
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 namespace {
 
@@ -303,4 +303,4 @@ void DeflectionTrace::add_section(rep::HtmlReport& r, const rp_session* session,
   add_force_plot(r, motions, force_, comp);
 }
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report

@@ -8,7 +8,7 @@
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 
-namespace redpost::cli {
+namespace redpost::run_report {
 
 namespace {
 
@@ -118,4 +118,4 @@ report::SceneCell scene_cell_of(const Cell& cell, const Isometry& T_B_part) {
   return c;
 }
 
-}  // namespace redpost::cli
+}  // namespace redpost::run_report
