@@ -2,20 +2,21 @@
 #
 # Edit this file for your cell; it sits next to redpost_post.tcl, which sources it (or set the
 # environment variable REDPOST_SETTINGS to another file). Relative paths are taken relative to
-# the directory of this file. Units: mm and degrees. See docs/nx-integration.md.
+# the directory of this file. Units: mm and degrees. Every setting is the `redpost convert`
+# option of the same name (docs/convert.md); docs/nx-integration.md lists them side by side.
 
 namespace eval ::redpost_settings {
     variable dir [file dirname [file normalize [info script]]]
 
     # Where the redpost Tcl package is: the directory holding pkgIndex.tcl (build/plugin, or
-    # <prefix>/lib/redpost0.3.2, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
+    # <prefix>/lib/redpost0.6.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
     variable library_dir ""
 
     # The workcell definition (XML, docs/cell-format.md).
     variable cell [file join $dir .. definitions cells andres2011_kr15_track_table.xml]
 
-    # The KRL template set (docs/krl-templates.md): krc4_lin, krc4_spline, krc2_lin or a file of
-    # your own. "" : the shipped krc4_lin.
+    # The KRL template set (docs/krl-templates.md): krc4_lin, krc4_spline, krc2_lin, krc4_circ
+    # or a file of your own. "" : the shipped krc4_lin. (--krl)
     variable krl ""
 
     # Output directory. "" : the directory of NX's output file (mom_output_file_full_name).
@@ -51,8 +52,32 @@ namespace eval ::redpost_settings {
     variable cl_line_every 50
     variable chordal_tol 0.01
 
-    # A joints log (CSV, one row per motion). "" : none.
+    # A joints log (CSV, one row per motion). "" : none. (--joints-csv)
     variable joints_csv ""
+
+    # An HTML report of the run, written with the program. "" : none. (--report)
+    variable report ""
+
+    # What NX's MSYS means: ignore (the MCS is the workpiece frame) or apply (every operation
+    # turned into NX's absolute frame by its MCS). (--msys)
+    variable msys ignore
+
+    # The redundancy along the path (docs/redundancy.md): plan global or local, preset smooth,
+    # stiff or fast, the keyframe spacing (mm), and external axes held: {E1=500 E2}. (--plan,
+    # --preset, --keyframe-spacing, --lock)
+    variable plan global
+    variable preset smooth
+    variable keyframe_spacing 20
+    variable lock {}
+
+    # The arm's deflection under the cutting force (docs/deflection.md): predict_deflection 1
+    # predicts it, compensate 1 also moves every target against it; cutting is the cutting
+    # conditions file ("" : the defaults; a file alone asks for the prediction); deflection_tol
+    # the tolerance (mm). (--predict-deflection, --compensate, --cutting, --deflection-tol)
+    variable predict_deflection 0
+    variable compensate 0
+    variable cutting ""
+    variable deflection_tol 0.05
 
     # Name used in messages and in the program's header. "" : NX's part (mom_part_name).
     variable source ""

@@ -93,6 +93,11 @@ typedef struct rp_options {
   int msys;                /* RP_MSYS_IGNORE (default) or RP_MSYS_APPLY (rp_msys_mode below) */
   const char* report_path; /* an HTML report of the run (docs/reports.md), written with the
                               program (rp_prepare, renamed into place by rp_close); NULL: none */
+  /* 1: the events are tracked on a thread of the session's own while the host makes the next
+   * ones (the same program, byte for byte). An event's error then comes from a later call (the
+   * next event, rp_prepare or rp_close) with that event's message; queries wait for every event
+   * sent; the motion observer is called on the session's thread. Default 0. */
+  int pipeline;
 } rp_options;
 
 enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };
@@ -248,6 +253,11 @@ RP_API void rp_free(rp_session* session);
 /* The message of the last error of this session, or of this thread's last rp_open when
  * session is NULL. Never NULL; "" when there was none. Valid until the next call on it. */
 RP_API const char* rp_last_error(const rp_session* session);
+
+/* Added in 0.6: the CL line (rp_set_line) or event number that the last error of this session
+ * names, 0 when it names none. Under the whole-path plan a motion is tracked some events after
+ * it was sent, so the line may be an earlier event's than the call that failed. */
+RP_API int rp_last_error_line(const rp_session* session);
 
 RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info);
 RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary);

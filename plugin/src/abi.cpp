@@ -284,6 +284,8 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     s->cell_path = cell_path;
     s->program = name;
     open_report(s.get(), o);
+    if (o.pipeline)
+      s->start_pipeline();
   });
   if (st == RP_OK)
     *session = s.release();
@@ -298,6 +300,15 @@ rp_status end_session(rp_session* session, bool commit) {
   if (!session)
     return null_handle("the session");
   using State = rp_session::State;
+  // Every event tracked first; one that failed on the pipeline's thread is told here, with its
+  // message, and nothing is written.
+  session->sync();
+  if (session->state == State::open || session->state == State::prepared) {
+    if (const rp_status failed = session->take_pipeline_failure(); failed != RP_OK) {
+      session->abandon();
+      return failed;
+    }
+  }
   const State before = session->state;
   const char* call = commit ? "close" : "prepare";
   const rp_status s = guard(session->error, "", [&] {
@@ -312,7 +323,7 @@ rp_status end_session(rp_session* session, bool commit) {
     if (!commit && session->state == State::prepared)
       throw AbiError{RP_ERR_STATE, "prepare refused: the session is already prepared"};
     if (session->state != State::prepared) {
-      session->post->prepare();
+      session->run_noting_line([&] { session->post->prepare(); });
       prepare_report(session);
     }
     if (commit) {
@@ -358,6 +369,10 @@ RP_API void rp_free(rp_session* session) {
 
 RP_API const char* rp_last_error(const rp_session* session) {
   return session ? session->error.c_str() : t_error.c_str();
+}
+
+RP_API int rp_last_error_line(const rp_session* session) {
+  return session ? session->error_line : 0;
 }
 
 RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info) {

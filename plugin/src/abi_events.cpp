@@ -34,7 +34,7 @@ rp_status send_with(rp_session* session, ClEventKind kind, F&& fill) {
   return session->event([&] {
     ClEvent e = event_of(session, kind);
     fill(e);
-    session->post->handle(e);
+    session->submit(std::move(e));
   });
 }
 

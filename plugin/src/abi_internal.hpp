@@ -143,6 +143,8 @@ inline const char* static_axis_name(const redpost::ControllerAxis& axis) {
   return kAxisNames[(axis.kind == redpost::AxisKind::external ? 6 : 0) + axis.number - 1];
 }
 
+struct Pipeline;
+
 // The largest NURBS a call may give (knots or control points): far beyond any CAM output, and
 // a bound on what a host's bad count makes the library read.
 inline constexpr int kMaxNurbsValues = 1'000'000;
@@ -213,6 +215,7 @@ struct rp_session {
   bool line_set = false;
   int line = 0;
   std::string failure;  // the message of the event that failed the session
+  int error_line = 0;   // the CL line (or event number) the last error names; 0: none
   mutable std::string error;
   // Kept when the PostSession is destroyed (a failed close) so the diagnostics stay readable.
   std::optional<redpost::PostSummary> summary_kept;
@@ -237,8 +240,30 @@ struct rp_session {
     return index < w.size() ? w[index].c_str() : nullptr;
   }
 
-  const redpost::PostSummary& summary() const { return post ? post->summary() : *summary_kept; }
-  const redpost::PoseResult& pose() const { return post ? post->last_pose() : *pose_kept; }
+  // Both wait for the pipeline's thread (if any) to have tracked every event sent.
+  const redpost::PostSummary& summary() const {
+    sync();
+    return post ? post->summary() : *summary_kept;
+  }
+  const redpost::PoseResult& pose() const {
+    sync();
+    return post ? post->last_pose() : *pose_kept;
+  }
+
+  // The pipeline (rp_options.pipeline, abi_pipeline.cpp): the events are tracked on a thread of
+  // the session's own, in order, while the host makes the next ones.
+  std::unique_ptr<redpost::abi::Pipeline> pipeline;  // the last member: its thread stops first
+  rp_session();
+  ~rp_session();  // stops the pipeline's thread before anything it uses goes
+  rp_session(const rp_session&) = delete;
+  rp_session& operator=(const rp_session&) = delete;
+  void start_pipeline();
+  // An event into the session: tracked at once, or queued for the pipeline's thread.
+  void submit(redpost::ClEvent&& e);
+  // Waits until the pipeline's thread has tracked every event queued (nothing without one).
+  void sync() const;
+  // A failure of the pipeline's thread, made the session's: its status (RP_OK: none).
+  rp_status take_pipeline_failure();
 
   int current_line() const { return line_set ? line : static_cast<int>(events); }
 
@@ -252,9 +277,26 @@ struct rp_session {
     post.reset();
   }
 
+  // Runs f(), noting the line of the Error it throws (under the plan it may be an earlier
+  // event's, deferred until now).
+  template <class F>
+  void run_noting_line(F&& f) {
+    try {
+      f();
+    } catch (const redpost::Error& e) {
+      error_line = e.where().line;
+      throw;
+    }
+  }
+
   // One event: counted, refused unless open, failing the session if it throws.
   template <class F>
   rp_status event(F&& f) noexcept {
+    // An earlier event failed on the pipeline's thread: this call tells it.
+    if (pipeline && state == State::open) {
+      if (const rp_status failed = take_pipeline_failure(); failed != RP_OK)
+        return failed;
+    }
     ++events;
     std::string prefix;
     try {
@@ -275,7 +317,7 @@ struct rp_session {
             "refused because the session is prepared (rp_prepare): only rp_close "
             "or rp_free may follow"};
       }
-      f();
+      run_noting_line(f);
     });
     if (s != RP_OK && state == State::open) {
       state = State::failed;

@@ -344,7 +344,7 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
       default:
         break;
     }
-    session->post->handle(e);
+    session->submit(std::move(e));
   });
 }
 

@@ -79,6 +79,7 @@ void fill_motion(const redpost::MotionSample& m, double threshold, rp_motion& ou
 
 // The session's observer: set while the host has one or a report is made.
 void install_observer(rp_session* session) {
+  session->sync();  // the pipeline's thread is not inside the observer while it changes
   if (!session->host_observer && !session->report) {
     session->post->set_motion_observer({});
     return;

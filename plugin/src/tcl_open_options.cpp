@@ -38,7 +38,10 @@ enum OpenOption {
   o_lock,
   o_deflection,
   o_cutting,
-  o_deflection_tol
+  o_deflection_tol,
+  o_msys,
+  o_report,
+  o_pipeline
 };
 
 // The deflection options of ::redpost::open (docs/deflection.md), as `redpost convert`'s
@@ -60,6 +63,19 @@ int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt
       break;
     case o_deflection_tol:
       return get_double(interp, v, "-deflection-tol", &opt.deflection_tolerance_mm);
+    case o_msys: {
+      static const char* const kModes[] = {"ignore", "apply", nullptr};
+      int k = 0;
+      if (Tcl_GetIndexFromObj(interp, v, kModes, "-msys", 0, &k) != TCL_OK)
+        return TCL_ERROR;
+      opt.msys = k == 1 ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
+      break;
+    }
+    case o_report:
+      opt.report_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      break;
+    case o_pipeline:
+      return Tcl_GetBooleanFromObj(interp, v, &opt.pipeline);
     default:
       break;
   }
@@ -105,7 +121,7 @@ const char* const kOpenUsage =
     "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
     "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
     "?-lock {E1=500 E2 ...}? ?-deflection off|predict|compensate? ?-cutting FILE? "
-    "?-deflection-tol MM?";
+    "?-deflection-tol MM? ?-msys ignore|apply? ?-report FILE.html? ?-pipeline 0|1?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
 const char* const kOpenOptions[] = {
@@ -115,7 +131,7 @@ const char* const kOpenOptions[] = {
     "-chordal-tol", "-tools",      "-clearance", "-rapid-vel",
     "-max-bytes",   "-plan",       "-preset",    "-keyframe-spacing",
     "-lock",        "-deflection", "-cutting",   "-deflection-tol",
-    nullptr};
+    "-msys",        "-report",     "-pipeline",  nullptr};
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
 // duration of rp_open).
 int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {

@@ -21,6 +21,7 @@
 #include "redpost.h"
 #include "tcl_args.hpp"
 #include "tcl_open_options.hpp"
+#include "tcl_state.hpp"
 
 #ifndef TCL_SIZE_MAX
 typedef int Tcl_Size;  // Tcl 8.6
@@ -34,100 +35,7 @@ using redpost::tcl::get_text;
 using redpost::tcl::kOpenOptions;
 using redpost::tcl::kOpenUsage;
 using redpost::tcl::open_option;
-
-constexpr const char* kAssocKey = "redpost::state";
-
-struct InterpState {
-  std::map<std::string, rp_session*> sessions;
-  std::map<std::string, rp_reader*> readers;
-  unsigned long next_id = 0;
-};
-
-void delete_state(ClientData data, Tcl_Interp*) {
-  auto* state = static_cast<InterpState*>(data);
-  for (auto& s : state->sessions)
-    rp_free(s.second);
-  for (auto& r : state->readers)
-    rp_reader_free(r.second);
-  delete state;
-}
-
-const char* status_name(rp_status s) {
-  switch (s) {
-    case RP_OK:
-      return "RP_OK";
-    case RP_ERR_BAD_INPUT:
-      return "RP_ERR_BAD_INPUT";
-    case RP_ERR_IO:
-      return "RP_ERR_IO";
-    case RP_ERR_UNREACHABLE:
-      return "RP_ERR_UNREACHABLE";
-    case RP_ERR_JOINT_LIMIT:
-      return "RP_ERR_JOINT_LIMIT";
-    case RP_ERR_STATE:
-      return "RP_ERR_STATE";
-    case RP_ERR_NULL:
-      return "RP_ERR_NULL";
-    case RP_ERR_INTERNAL:
-      return "RP_ERR_INTERNAL";
-  }
-  return "RP_ERR_UNKNOWN";
-}
-
-// A Tcl error from a status and its message.
-int fail(Tcl_Interp* interp, rp_status status, const char* message) {
-  const std::string text =
-      (message && *message) ? message : std::string("redpost: ") + status_name(status);
-  Tcl_SetObjResult(interp, Tcl_NewStringObj(text.c_str(), -1));
-  Tcl_SetErrorCode(interp, "REDPOST", status_name(status), static_cast<char*>(nullptr));
-  return TCL_ERROR;
-}
-
-int usage(Tcl_Interp* interp, Tcl_Obj* const objv[], const char* args) {
-  Tcl_WrongNumArgs(interp, 1, objv, args);
-  return TCL_ERROR;
-}
-
-int get_session(Tcl_Interp* interp, InterpState* state, Tcl_Obj* obj, rp_session** out) {
-  auto it = state->sessions.find(Tcl_GetString(obj));
-  if (it == state->sessions.end()) {
-    Tcl_SetObjResult(interp, Tcl_ObjPrintf("no redpost session \"%s\"", Tcl_GetString(obj)));
-    Tcl_SetErrorCode(interp, "REDPOST", "NO_SESSION", static_cast<char*>(nullptr));
-    return TCL_ERROR;
-  }
-  *out = it->second;
-  return TCL_OK;
-}
-
-int get_reader(Tcl_Interp* interp, InterpState* state, Tcl_Obj* obj, rp_reader** out) {
-  auto it = state->readers.find(Tcl_GetString(obj));
-  if (it == state->readers.end()) {
-    Tcl_SetObjResult(interp, Tcl_ObjPrintf("no redpost reader \"%s\"", Tcl_GetString(obj)));
-    Tcl_SetErrorCode(interp, "REDPOST", "NO_READER", static_cast<char*>(nullptr));
-    return TCL_ERROR;
-  }
-  *out = it->second;
-  return TCL_OK;
-}
-
-// The result of a session call: "" on RP_OK, the session's error otherwise.
-int session_result(Tcl_Interp* interp, rp_session* s, rp_status status) {
-  if (status == RP_OK) {
-    Tcl_ResetResult(interp);
-    return TCL_OK;
-  }
-  return fail(interp, status, rp_last_error(s));
-}
-
-#define STATE static_cast<InterpState*>(cd)
-
-// Every session command takes the handle first: parse it and the count of arguments.
-#define SESSION_ARGS(n, text)                            \
-  if (objc != (n) + 2)                                   \
-    return usage(interp, objv, "session " text);         \
-  rp_session* s = nullptr;                               \
-  if (get_session(interp, STATE, objv[1], &s) != TCL_OK) \
-    return TCL_ERROR;
+using namespace redpost::tcl;
 
 int cmd_version(ClientData, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
   if (objc != 1)
@@ -221,12 +129,24 @@ int get_doubles(Tcl_Interp* interp, Tcl_Obj* const objv[], const char* const nam
   return TCL_OK;
 }
 
+// ::redpost::linear_move s x y z i j k ?line?: with the line, rp_set_line first (one call per
+// motion for the NX handlers).
 int cmd_linear_move(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[]) {
-  SESSION_ARGS(6, "x y z i j k")
+  if (objc != 8 && objc != 9)
+    return usage(interp, objv, "session x y z i j k ?line?");
+  rp_session* s = nullptr;
+  if (get_session(interp, STATE, objv[1], &s) != TCL_OK)
+    return TCL_ERROR;
   static const char* const kNames[] = {"x", "y", "z", "i", "j", "k"};
   double v[6];
   if (get_doubles(interp, objv + 2, kNames, 6, v) != TCL_OK)
     return TCL_ERROR;
+  if (objc == 9) {
+    int line = 0;
+    if (get_int(interp, objv[8], "line", &line) != TCL_OK)
+      return TCL_ERROR;
+    rp_set_line(s, line);
+  }
   return session_result(interp, s, rp_linear_move(s, v[0], v[1], v[2], v[3], v[4], v[5]));
 }
 
@@ -542,11 +462,6 @@ int cmd_reader_free(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const 
   return TCL_OK;
 }
 
-struct Command {
-  const char* name;
-  Tcl_ObjCmdProc* proc;
-};
-
 const Command kCommands[] = {
     {"::redpost::open", cmd_open},
     {"::redpost::set_line", cmd_set_line},
@@ -590,6 +505,10 @@ int init(Tcl_Interp* interp, bool safe) {
     }
     for (const Command& c : kCommands)
       Tcl_CreateObjCommand(interp, c.name, c.proc, state, nullptr);
+    for (int k = 0; k < kToolpathCommandCount; ++k) {
+      Tcl_CreateObjCommand(interp, kToolpathCommands[k].name, kToolpathCommands[k].proc, state,
+                           nullptr);
+    }
   }
   return Tcl_PkgProvide(interp, "redpost", REDPOST_VERSION);
 }

@@ -1,0 +1,107 @@
+# nx_replay_options.tcl: the command line of nx_replay.tcl (the options of `redpost convert`,
+# docs/convert.md) and the handlers' settings made from it. Sourced by nx_replay.tcl.
+
+proc usage {{message ""}} {
+    if {$message ne ""} {
+        puts stderr "nx_replay: $message"
+    }
+    puts stderr "usage: tclsh nx_replay.tcl --cell CELL.xml -o OUTDIR \[--krl SET\] \[--name PROG\]\
+        \[--joints-csv FILE\] \[--report FILE.html\] \[--placement x,y,z,a,b,c\] \[--base EXPR\]\
+        \[--tool EXPR\] \[--tools FILE\] \[--msys ignore|apply\] \[--clearance Z\]\
+        \[--rapid-vel M/S\] \[--max-bytes N\] \[--apo MM\] \[--split N\] \[--cl-line-every N\]\
+        \[--chordal-tol MM\] \[--plan global|local\] \[--preset smooth|stiff|fast\]\
+        \[--keyframe-spacing MM\] \[--lock E1=500 ...\] \[--predict-deflection\] \[--compensate\]\
+        \[--cutting FILE\] \[--deflection-tol MM\] \[--lib DIR\] \[-q\] INPUT"
+    exit 1
+}
+
+# Options with a value, and the settings they set (docs/nx-integration.md, "The settings").
+array set option_setting {
+    --cell cell --krl krl -o output_dir --output output_dir --name program_name
+    --joints-csv joints_csv --report report --placement placement --base base --tool tool
+    --tools tools --msys msys --clearance clearance --rapid-vel rapid_vel --max-bytes max_bytes
+    --apo apo --split split --cl-line-every cl_line_every --chordal-tol chordal_tol --plan plan
+    --preset preset --keyframe-spacing keyframe_spacing --cutting cutting
+    --deflection-tol deflection_tol --lib lib --lock lock
+}
+# The settings that are paths of files the run reads or writes.
+set path_settings {cell output_dir joints_csv report tools cutting}
+
+array set opt {quiet 0 lock {} predict_deflection 0 compensate 0}
+set input ""
+for {set i 0} {$i < $argc} {incr i} {
+    set a [lindex $argv $i]
+    if {[info exists option_setting($a)]} {
+        if {$i + 1 >= $argc} {
+            usage "$a needs a value"
+        }
+        set key $option_setting($a)
+        set value [lindex $argv [incr i]]
+        if {$key eq "lock"} {
+            lappend opt(lock) $value
+        } else {
+            set opt($key) $value
+        }
+        continue
+    }
+    switch -- $a {
+        -q - --quiet { set opt(quiet) 1 }
+        --predict-deflection { set opt(predict_deflection) 1 }
+        --compensate { set opt(compensate) 1 }
+        -h - --help { usage }
+        default {
+            if {[string match -* $a] || $input ne ""} {
+                usage "unexpected argument '$a'"
+            }
+            set input $a
+        }
+    }
+}
+if {$input eq "" || ![info exists opt(cell)] || ![info exists opt(output_dir)]} {
+    usage "INPUT, --cell and -o are required"
+}
+foreach {key allowed} {msys {ignore apply} plan {global local} preset {smooth stiff fast}} {
+    if {[info exists opt($key)] && $opt($key) ni $allowed} {
+        usage "--[string map {_ -} $key]: $opt($key) not in {[join $allowed ,]}"
+    }
+}
+if {[info exists opt(lib)]} {
+    set auto_path [linsert $auto_path 0 [file normalize $opt(lib)]]
+}
+
+# The handlers' settings (redpost_settings.tcl) from the command line, with convert's defaults
+# for what it does not give. Paths are taken as given, from the current folder.
+proc replay_settings {} {
+    namespace eval ::redpost_settings {
+        variable dir [pwd]
+        variable source $::input
+        variable part_comment 1
+        variable tool "TOOL_DATA\[1\]"
+        foreach {name value} {krl "" program_name "" joints_csv "" report "" placement {}
+            base "" tools "" clearance "" rapid_vel 0.25 max_bytes 0 apo 0.5 split 0
+            cl_line_every 50 chordal_tol 0.01 msys ignore plan global preset smooth
+            keyframe_spacing 20 cutting "" deflection_tol 0.05} {
+            variable $name $value
+        }
+    }
+    foreach key [array names ::opt] {
+        switch -- $key {
+            quiet - lib {}
+            placement {
+                set p [split $::opt(placement) ,]
+                if {[llength $p] != 6} {
+                    usage "--placement takes six numbers x,y,z,a,b,c (mm and deg),\
+                        got '$::opt(placement)'"
+                }
+                set ::redpost_settings::placement $p
+            }
+            default {
+                set value $::opt($key)
+                if {$key in $::path_settings && $value ne ""} {
+                    set value [file normalize $value]
+                }
+                set ::redpost_settings::$key $value
+            }
+        }
+    }
+}
