@@ -24,8 +24,6 @@ array set option_setting {
     --preset preset --keyframe-spacing keyframe_spacing --cutting cutting
     --deflection-tol deflection_tol --lib lib --lock lock
 }
-# The settings that are paths of files the run reads or writes.
-set path_settings {cell output_dir joints_csv report tools cutting}
 
 array set opt {quiet 0 lock {} predict_deflection 0 compensate 0}
 set input ""
@@ -70,10 +68,10 @@ if {[info exists opt(lib)]} {
 }
 
 # The handlers' settings (redpost_settings.tcl) from the command line, with convert's defaults
-# for what it does not give. Paths are taken as given, from the current folder.
+# for what it does not give. Paths are taken as given (no settings folder), as convert takes them.
 proc replay_settings {} {
     namespace eval ::redpost_settings {
-        variable dir [pwd]
+        variable dir ""
         variable source $::input
         variable part_comment 1
         variable tool "TOOL_DATA\[1\]"
@@ -96,11 +94,7 @@ proc replay_settings {} {
                 set ::redpost_settings::placement $p
             }
             default {
-                set value $::opt($key)
-                if {$key in $::path_settings && $value ne ""} {
-                    set value [file normalize $value]
-                }
-                set ::redpost_settings::$key $value
+                set ::redpost_settings::$key $::opt($key)
             }
         }
     }

@@ -408,6 +408,9 @@ namespace eval ::redpost_post {
     # MOM_first_tool, then MOM_load_tool for the same tool).
     proc tool_change {event} {
         variable tool_changed
+        variable cycle_on
+        # A cycle still on is interrupted (the session refuses motion until it is off).
+        set cycle_on 0
         set number [mom mom_tool_number 0]
         send $event tool_change $number [mom mom_tool_name] [mom mom_tool_diameter 0] \
             [mom mom_tool_length 0]
@@ -475,6 +478,7 @@ proc MOM_start_of_path {} {
     set ${ns}::operation $name
     lappend ${ns}::operations [${ns}::line] $name
     set ${ns}::tool_changed ""
+    set ${ns}::cycle_on 0
     ${ns}::send MOM_start_of_path operation_start $name
 }
 

@@ -5,9 +5,12 @@
 namespace eval ::redpost_post {
 
     # A path from the settings: relative to the settings file's directory.
+    # An absolute path, or one given with no settings folder (nx_replay.tcl: as on its command
+    # line), stays as it is.
     proc setting_path {value} {
-        if {$value eq ""} {
-            return ""
+        if {$value eq "" || $::redpost_settings::dir eq "" ||
+                [file pathtype $value] eq "absolute"} {
+            return $value
         }
         return [file normalize [file join $::redpost_settings::dir $value]]
     }

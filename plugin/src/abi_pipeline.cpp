@@ -132,7 +132,10 @@ rp_session::~rp_session() {
 void rp_session::start_pipeline() {
   pipeline = std::make_unique<Pipeline>();
   pipeline->open.reserve(Pipeline::kBatch);
-  pipeline->thread = std::thread([this] { pipeline->run(this); });
+  // The thread gets the pipeline itself: rp_free may come before it first runs, and the
+  // pointer member is cleared before the pipeline is destroyed.
+  Pipeline* p = pipeline.get();
+  p->thread = std::thread([p, this] { p->run(this); });
 }
 
 void rp_session::submit(redpost::ClEvent&& e) {

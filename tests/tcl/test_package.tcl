@@ -460,6 +460,76 @@ check handlers.missing_cell {
 } {1 1}
 interp delete $nx
 
+# NX's events that redpost refuses (issue 29, "Errors in NX terms"): each stops the post with the
+# event, the operation and the reason, and nothing is written.
+set bad_events {
+    nan_goto {
+        array set mom_mcs_goto {0 -100 1 NaN 2 110}
+        MOM_linear_move
+        MOM_end_of_program
+    } {MOM_linear_move (reported at MOM_end_of_program) in operation OP1 (event 4 of the run):\
+        *:4: a move with a coordinate that is not a finite number}
+    tap {
+        MOM_tap
+    } {MOM_tap in operation OP1: this cycle is not supported*}
+    csys {
+        array set mom_csys_matrix {0 1 1 0 2 0 3 0 4 1 5 0 6 0 7 0 8 1 9 0 10 0 11 50}
+        MOM_set_csys
+    } {MOM_set_csys in operation OP1: a coordinate system other than the MCS*}
+    cycle_without_depth {
+        set mom_cycle_rapid_to 3
+        MOM_drill
+        MOM_end_of_program
+    } {MOM_drill (reported at MOM_end_of_program) in operation OP1 (event 4 of the run): *:4: CYCLE/DRILL needs FEDTO*}
+    hole_without_cycle {
+        MOM_drill_move
+        MOM_end_of_program
+    } {MOM_drill_move (reported at MOM_end_of_program) in operation OP1 (event 4 of the run): *:4: a hole of a drilling cycle,\
+        but no cycle is on*}
+    css {
+        MOM_spindle_css
+    } {MOM_spindle_css in operation OP1: constant surface speed is not supported*}
+    krl_insert {
+        set mom_Instruction "KRL: LIN P1"
+        MOM_insert
+        MOM_end_of_program
+    } {MOM_insert (reported at MOM_end_of_program) in operation OP1 (event 4 of the run):\
+        *:4: 'LIN P1' cannot be passed to the KRL program*}
+}
+foreach {name script pattern} $bad_events {
+    file mkdir $work/nx_bad_$name
+    set nx [nx_interp $work/nx_bad_$name "variable cell [list $cell]; variable program_name BAD;\
+        variable output_dir [list $work/nx_bad_$name]; variable source part.prt"]
+    check handlers.refused.$name {
+        $nx eval {
+            MOM_start_of_program
+            set mom_path_name OP1
+            MOM_start_of_path
+            array set mom_tool_axis {0 0 1 0 2 1}
+            array set mom_mcs_goto {0 -120 1 -440 2 110}
+            set mom_motion_type RAPID; set mom_motion_event rapid_move
+            MOM_initial_move
+        }
+        set refused [catch {$nx eval $script} message]
+        list $refused [string match "redpost: $pattern" $message] \
+            [expr {$message eq [lindex [$nx eval {set ::aborted}] 0]}] \
+            [glob -nocomplain -directory $work/nx_bad_$name *.src *.dat]
+    } {1 1 1 {}}
+    interp delete $nx
+}
+
+# An inch post: refused at the start, before anything is opened.
+file mkdir $work/nx_inch
+set nx [nx_interp $work/nx_inch "variable cell [list $cell]; variable program_name INCH;\
+    variable output_dir [list $work/nx_inch]"]
+check handlers.refused.inches {
+    $nx eval {
+        set mom_output_unit IN
+        list [catch MOM_start_of_program m] [string match "*mom_output_unit IN*metric*" $m]
+    }
+} {1 1}
+interp delete $nx
+
 # --- nx_replay.tcl against `redpost convert`, byte for byte ----------------------------------------
 
 set tclsh [info nameofexecutable]
