@@ -2,11 +2,12 @@
 # the way NX's postprocessor calls them, without NX.
 #
 #   tclsh tcl/nx_replay.tcl --cell CELL.xml -o OUTDIR [the options of redpost convert]
-#         [--lib DIR] [-q] INPUT
+#         [--lib DIR] [--post POST.tcl] [-q] INPUT
 #
 # The options are those of `redpost convert` (docs/convert.md), and the program, the joints log
 # and the report are the same, byte for byte. --lib DIR puts DIR (the directory of pkgIndex.tcl,
-# e.g. build/plugin) on auto_path.
+# e.g. build/plugin) on auto_path. --post POST.tcl plays the file through a post made by
+# scripts/make_nx_post.sh instead, with the post's settings (the options given replace them).
 #
 # The replay is a small NX of its own: it reads the CL file record by record (its own reading,
 # not redpost's CL reader) and, as NX's postprocessor does for the toolpath the file stands for,
@@ -45,7 +46,8 @@ proc MOM_output_literal {text} {
 
 # --- the handlers, with the settings from the command line --------------------------------------
 
-source [file join $here redpost_post.tcl]
+# --post POST.tcl: a post's event handler file (scripts/make_nx_post.sh), as NX would source it.
+source [expr {[info exists opt(post)] ? $opt(post) : [file join $here redpost_post.tcl]}]
 replay_settings
 
 # NX's output file: the program name defaults to it, as convert's defaults to the input's name.

@@ -11,7 +11,7 @@ proc usage {{message ""}} {
         \[--rapid-vel M/S\] \[--max-bytes N\] \[--apo MM\] \[--split N\] \[--cl-line-every N\]\
         \[--chordal-tol MM\] \[--plan global|local\] \[--preset smooth|stiff|fast\]\
         \[--keyframe-spacing MM\] \[--lock E1=500 ...\] \[--predict-deflection\] \[--compensate\]\
-        \[--cutting FILE\] \[--deflection-tol MM\] \[--lib DIR\] \[-q\] INPUT"
+        \[--cutting FILE\] \[--deflection-tol MM\] \[--lib DIR\] \[--post POST.tcl\] \[-q\] INPUT"
     exit 1
 }
 
@@ -22,7 +22,7 @@ array set option_setting {
     --tools tools --msys msys --clearance clearance --rapid-vel rapid_vel --max-bytes max_bytes
     --apo apo --split split --cl-line-every cl_line_every --chordal-tol chordal_tol --plan plan
     --preset preset --keyframe-spacing keyframe_spacing --cutting cutting
-    --deflection-tol deflection_tol --lib lib --lock lock
+    --deflection-tol deflection_tol --lib lib --lock lock --post post
 }
 
 array set opt {quiet 0 lock {} predict_deflection 0 compensate 0}
@@ -55,8 +55,9 @@ for {set i 0} {$i < $argc} {incr i} {
         }
     }
 }
-if {$input eq "" || ![info exists opt(cell)] || ![info exists opt(output_dir)]} {
-    usage "INPUT, --cell and -o are required"
+if {$input eq "" || ![info exists opt(output_dir)] ||
+        (![info exists opt(cell)] && ![info exists opt(post)])} {
+    usage "INPUT, --cell (or --post) and -o are required"
 }
 foreach {key allowed} {msys {ignore apply} plan {global local} preset {smooth stiff fast}} {
     if {[info exists opt($key)] && $opt($key) ni $allowed} {
@@ -69,7 +70,29 @@ if {[info exists opt(lib)]} {
 
 # The handlers' settings (redpost_settings.tcl) from the command line, with convert's defaults
 # for what it does not give. Paths are taken as given (no settings folder), as convert takes them.
+# With --post, the post's settings stay but for what the command line gives, its paths made
+# absolute (the post's settings are relative to its own folder).
 proc replay_settings {} {
+    if {[info exists ::opt(post)]} {
+        set ::redpost_settings::source $::input
+        foreach key [array names ::opt] {
+            if {$key ni {quiet lib post predict_deflection compensate lock} ||
+                    ($key eq "lock" && [llength $::opt(lock)])} {
+                set value $::opt($key)
+                if {$key in {cell output_dir joints_csv report tools cutting} ||
+                        ($key eq "krl" && [string match */* $value])} {
+                    set value [file normalize $value]
+                }
+                set ::redpost_settings::$key $value
+            }
+        }
+        foreach key {predict_deflection compensate} {
+            if {$::opt($key)} {
+                set ::redpost_settings::$key 1
+            }
+        }
+        return
+    }
     namespace eval ::redpost_settings {
         variable dir ""
         variable source $::input
@@ -84,7 +107,7 @@ proc replay_settings {} {
     }
     foreach key [array names ::opt] {
         switch -- $key {
-            quiet - lib {}
+            quiet - lib - post {}
             placement {
                 set p [split $::opt(placement) ,]
                 if {[llength $p] != 6} {

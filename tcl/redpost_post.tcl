@@ -50,8 +50,12 @@ namespace eval ::redpost_post {
     variable last_event ""
 }
 
-# Settings first: they say where the package is.
-if {[info exists ::env(REDPOST_SETTINGS)] && $::env(REDPOST_SETTINGS) ne ""} {
+# Settings first: they say where the package is. A post's event handler file names its own
+# (::redpost_settings_file, scripts/make_nx_post.sh), else $env(REDPOST_SETTINGS), else the file
+# next to this one.
+if {[info exists ::redpost_settings_file] && $::redpost_settings_file ne ""} {
+    source $::redpost_settings_file
+} elseif {[info exists ::env(REDPOST_SETTINGS)] && $::env(REDPOST_SETTINGS) ne ""} {
     source $::env(REDPOST_SETTINGS)
 } else {
     source [file join $::redpost_post::here redpost_settings.tcl]
