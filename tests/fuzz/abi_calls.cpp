@@ -77,7 +77,7 @@ void move(rp_session* s, Bytes& in, bool linear) {
 // Each argument is read in its own statement: the order in which a call's arguments are
 // evaluated is unspecified, and the corpus must mean the same to gcc's replay and clang's fuzzer.
 void call(rp_session* s, Bytes& in) {
-  switch (in.byte() % 15) {
+  switch (in.byte() % 24) {
     case 0:
       rp_feed(s, in.number());
       break;
@@ -126,6 +126,59 @@ void call(rp_session* s, Bytes& in) {
     case 13:
       rp_prepare(s);
       break;
+    case 14: {  // the toolpath calls of 0.6: cycles, NURBS, MSYS, texts, cutcom, dwell, warnings
+      rp_cycle_params c;
+      rp_cycle_params_init(&c);
+      c.peck = in.byte() & 1;
+      c.depth_mm = in.number();
+      c.clearance_mm = in.number();
+      c.retract_mm = in.byte() & 1 ? in.number() : c.retract_mm;
+      c.feed_mm_per_min = in.byte() & 1 ? in.number() : c.feed_mm_per_min;
+      c.dwell_s = in.byte() & 1 ? in.number() : 0.0;
+      c.first_peck_mm = in.number();
+      c.next_peck_mm = in.number();
+      rp_cycle_define(s, &c);
+      break;
+    }
+    case 15: {
+      const double x = in.number(), y = in.number(), z = in.number();
+      rp_cycle_hole(s, x, y, z, 0, 0, 1);
+      break;
+    }
+    case 16:
+      if (in.byte() & 1)
+        rp_cycle_off(s);
+      else
+        rp_cycle_on(s);
+      break;
+    case 17: {
+      double knots[12], points[48];
+      const int nk = in.byte() % 13, np = in.byte() % 13;
+      for (int k = 0; k < nk; ++k)
+        knots[k] = in.byte() % 2 ? in.number() : (k + 1.0) / nk;
+      for (int k = 0; k < 4 * np; ++k)
+        points[k] = k % 4 == 3 ? 1.0 + (in.byte() % 3) : in.number();
+      rp_nurbs_move(s, knots, nk, points, np, 0, 0, 1);
+      break;
+    }
+    case 18: {
+      const double o3[3] = {in.number(), in.number(), in.number()};
+      const double x[3] = {1, 0, 0}, y[3] = {0, static_cast<double>(in.byte() % 3), 0};
+      rp_machine_frame(s, o3, x, y);
+      break;
+    }
+    case 19:
+      rp_operator_text(s, static_cast<rp_text_kind>(in.byte() % 4), in.text().c_str());
+      break;
+    case 20:
+      rp_cutcom(s, in.byte() & 1, in.text().c_str());
+      break;
+    case 21:
+      rp_dwell(s, in.number());
+      break;
+    case 22:
+      rp_warn(s, in.text().c_str());
+      break;
     default:
       rp_close(s);
       break;
@@ -157,6 +210,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.plan = (in.byte() & 1) ? RP_PLAN_LOCAL : RP_PLAN_GLOBAL;
   o.motions_per_file = in.byte() % 4 == 0 ? 5 : 0;
   o.apo_mm = in.byte() % 8 == 0 ? in.number() : 0.5;
+  o.pipeline = in.byte() & 1;
   rp_session* s = nullptr;
   if (rp_open(&o, &s) != RP_OK) {
     if (s != nullptr || !std::filesystem::is_empty(dir))
