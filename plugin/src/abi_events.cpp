@@ -42,17 +42,18 @@ rp_status send_plain(rp_session* session, ClEventKind kind) {
   return send_with(session, kind, [](ClEvent&) {});
 }
 
-redpost::SpindleDirection direction_of(rp_spindle_direction direction) {
-  switch (direction) {
+redpost::SpindleDirection direction_of(const rp_spindle_direction& direction) {
+  switch (enum_value(direction)) {
     case RP_SPINDLE_OFF:
       return redpost::SpindleDirection::off;
     case RP_SPINDLE_CW:
       return redpost::SpindleDirection::clockwise;
     case RP_SPINDLE_CCW:
       return redpost::SpindleDirection::counter_clockwise;
+    default:
+      break;
   }
-  throw AbiError{RP_ERR_BAD_INPUT, "spindle direction " +
-                                       std::to_string(static_cast<int>(direction)) +
+  throw AbiError{RP_ERR_BAD_INPUT, "spindle direction " + std::to_string(enum_value(direction)) +
                                        " is not one of RP_SPINDLE_OFF, _CW, _CCW"};
 }
 
@@ -211,7 +212,7 @@ RP_API rp_status rp_cutcom(rp_session* session, int on, const char* side) {
 RP_API rp_status rp_operator_text(rp_session* session, rp_text_kind kind, const char* text) {
   return send_with(session, ClEventKind::operator_text, [&](ClEvent& e) {
     e.text = required(text, "the text");
-    e.text_kind = text_kind_of(kind);
+    e.text_kind = text_kind_of(kind);  // by reference: the value is read as an int
   });
 }
 

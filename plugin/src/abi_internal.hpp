@@ -186,16 +186,28 @@ inline void nurbs_from(const double* knots, int knot_count, const double* points
   }
 }
 
-inline redpost::TextKind text_kind_of(rp_text_kind kind) {
-  switch (kind) {
+// The value a host passed for a C enum, read as the int it is: a C host may pass any int, and in
+// C++ loading an enum with a value outside its range is undefined (UBSan reports it).
+template <class E>
+int enum_value(const E& e) {
+  static_assert(sizeof(E) == sizeof(int), "a C enum is an int");
+  int v = 0;
+  std::memcpy(&v, &e, sizeof v);
+  return v;
+}
+
+inline redpost::TextKind text_kind_of(const rp_text_kind& kind) {
+  switch (enum_value(kind)) {
     case RP_TEXT_INSERT:
       return redpost::TextKind::insert;
     case RP_TEXT_PPRINT:
       return redpost::TextKind::pprint;
     case RP_TEXT_MESSAGE:
       return redpost::TextKind::message;
+    default:
+      break;
   }
-  throw AbiError{RP_ERR_BAD_INPUT, "text kind " + std::to_string(static_cast<int>(kind)) +
+  throw AbiError{RP_ERR_BAD_INPUT, "text kind " + std::to_string(enum_value(kind)) +
                                        " is not one of RP_TEXT_INSERT, _PPRINT, _MESSAGE"};
 }
 

@@ -108,19 +108,20 @@ void set_kind_of(const rp_event& event, redpost::ClEvent& e) {
       {RP_EVENT_FROM, ClEventKind::move},
       {RP_EVENT_GODLTA, ClEventKind::move},
   };
+  const int kind = enum_value(event.kind);
   for (const auto& k : kKinds) {
-    if (k.abi == event.kind) {
+    if (k.abi == kind) {
       e.kind = k.kind;
-      e.origin = event.kind == RP_EVENT_FROM     ? MoveOrigin::from_point
-                 : event.kind == RP_EVENT_GODLTA ? MoveOrigin::delta
-                 : event.kind == RP_EVENT_ARC    ? MoveOrigin::arc
-                 : event.kind == RP_EVENT_NURBS  ? MoveOrigin::nurbs
-                                                 : MoveOrigin::goto_point;
+      e.origin = kind == RP_EVENT_FROM     ? MoveOrigin::from_point
+                 : kind == RP_EVENT_GODLTA ? MoveOrigin::delta
+                 : kind == RP_EVENT_ARC    ? MoveOrigin::arc
+                 : kind == RP_EVENT_NURBS  ? MoveOrigin::nurbs
+                                           : MoveOrigin::goto_point;
       return;
     }
   }
-  throw AbiError{RP_ERR_BAD_INPUT, "event kind " + std::to_string(static_cast<int>(event.kind)) +
-                                       " is not an rp_event_kind"};
+  throw AbiError{RP_ERR_BAD_INPUT,
+                 "event kind " + std::to_string(kind) + " is not an rp_event_kind"};
 }
 
 }  // namespace
@@ -302,7 +303,7 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
     e.tool_diameter_mm = event->tool_diameter_mm;
     e.tool_length_mm = event->tool_length_mm;
     e.value = event->value;
-    switch (event->direction) {
+    switch (enum_value(event->direction)) {
       case RP_SPINDLE_OFF:
         e.direction = redpost::SpindleDirection::off;
         break;
@@ -324,7 +325,7 @@ RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
     e.arc_centre_mm = vec(event->arc_centre[0], event->arc_centre[1], event->arc_centre[2]);
     e.arc_axis = vec(event->arc_axis[0], event->arc_axis[1], event->arc_axis[2]);
     // The fields added in 0.6, only for the kinds added with them.
-    switch (event->kind) {
+    switch (enum_value(event->kind)) {
       case RP_EVENT_CYCLE:
         cycle_from(event->cycle, e);
         break;
