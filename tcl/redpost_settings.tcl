@@ -9,7 +9,7 @@ namespace eval ::redpost_settings {
     variable dir [file dirname [file normalize [info script]]]
 
     # Where the redpost Tcl package is: the directory holding pkgIndex.tcl (build/plugin, or
-    # <prefix>/lib/redpost0.6.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
+    # <prefix>/lib/redpost0.7.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
     variable library_dir ""
 
     # The workcell definition (XML, docs/cell-format.md).

@@ -195,6 +195,17 @@ void print_timing(const rp_session* session) {
   if (t.untimed_tool_changes > 0)
     line += fmt::format(", without the time of {} tool change(s)", t.untimed_tool_changes);
   fmt::print("{}\n", line);
+  if (t.interpolation_cycle_s > 0.0 && t.cp_motions > 0) {
+    // The controller's clock (docs/timing.md, "The interpolation cycle").
+    fmt::print(
+        "interpolation cycle {:g} ms: {} of {} CP motion(s) last less than a cycle at their "
+        "$VEL.CP ({:.0f} %, shortest {:.1f} ms at CL line {}); {} slowed by the motion rate, {} "
+        "by the look-ahead\n",
+        t.interpolation_cycle_s * 1000.0, t.below_cycle_motions, t.cp_motions,
+        100.0 * static_cast<double>(t.below_cycle_motions) / static_cast<double>(t.cp_motions),
+        t.shortest_motion_s * 1000.0, t.shortest_motion_line, t.rate_limited_motions,
+        t.lookahead_limited_motions);
+  }
   if (t.plan_windows > 0) {
     fmt::print("whole-path plan: {} window(s), {} tracked pose by pose, {} IK solutions\n",
                t.plan_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
@@ -213,7 +224,10 @@ void print_timing(const rp_session* session) {
       t.peak_speed_fraction, peak_axis, t.peak_speed_line, t.slowed_motions);
   if (t.feed_limits == 0)
     return;
-  fmt::print("where an axis keeps the feed 5 % or more below the CL file's ({}):\n", t.feed_limits);
+  fmt::print(
+      "where an axis or the controller's clock keeps the feed 5 % or more below the CL "
+      "file's ({}):\n",
+      t.feed_limits);
   constexpr int kShown = 12;
   for (int i = 0; i < t.feed_limits_listed && i < kShown; ++i) {
     rp_feed_limit_info f{};

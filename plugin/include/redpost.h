@@ -30,9 +30,9 @@ extern "C" {
 #endif
 
 #define REDPOST_VERSION_MAJOR 0
-#define REDPOST_VERSION_MINOR 6
+#define REDPOST_VERSION_MINOR 7
 #define REDPOST_VERSION_PATCH 0
-#define REDPOST_VERSION "0.6.0"
+#define REDPOST_VERSION "0.7.0"
 
 #if defined(REDPOST_BUILDING_LIBRARY)
 #define RP_API __attribute__((visibility("default")))
@@ -365,6 +365,14 @@ typedef struct rp_timing {
   long plan_windows;          /* windows planned */
   long plan_fallback_windows; /* of them, tracked pose by pose (no sequence on the lattice) */
   long plan_ik_evaluations;   /* lattice nodes solved, one closed-form IK posture each */
+  /* Appended in 0.7: the controller's clock (docs/timing.md, "The interpolation cycle"). */
+  double interpolation_cycle_s;   /* the template set's IPO cycle (0.012 on a KR C4) */
+  long cp_motions;                /* CP motions timed (LIN, CIRC, SLIN) */
+  long below_cycle_motions;       /* of them, lasting less than one cycle at their $VEL.CP */
+  long rate_limited_motions;      /* of them, slowed by the motion rate (one per cycle) */
+  long lookahead_limited_motions; /* of them, slowed by the look-ahead ($ADVANCE) */
+  double shortest_motion_s;       /* the shortest CP motion at its $VEL.CP (0: none) */
+  int shortest_motion_line;       /* its CL line */
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 
@@ -373,10 +381,12 @@ typedef struct rp_feed_limit_info {
   unsigned struct_size;      /* set to sizeof(rp_feed_limit_info) before the call */
   int first_line, last_line; /* CL lines */
   long motions;
-  int joint;                /* chain index */
-  const char* joint_name;   /* valid while the session lives */
-  const char* axis_name;    /* "A1".."E6" or "none" (static) */
-  const char* limit;        /* "axis velocity", "axis acceleration" or "corner" (static) */
+  int joint;              /* chain index; -1 for "motion rate" and "look-ahead" (0.7) */
+  const char* joint_name; /* valid while the session lives; "" when joint is -1 */
+  const char* axis_name;  /* "A1".."E6" or "none" (static); "-" when joint is -1 */
+  /* "axis velocity", "axis acceleration", "corner", and since 0.7 "motion rate" (motions
+     shorter than one interpolation cycle) and "look-ahead" ($ADVANCE too short to stop in). */
+  const char* limit;
   double lowest_mm_per_min; /* the lowest speed reached on it */
   double asked_mm_per_min;  /* the feed asked */
 } rp_feed_limit_info;

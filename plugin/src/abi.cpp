@@ -479,6 +479,13 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.plan_windows = s.plan_windows;
     out.plan_fallback_windows = s.plan_fallback_windows;
     out.plan_ik_evaluations = s.plan_ik_evaluations;
+    out.interpolation_cycle_s = s.interpolation_cycle_s;
+    out.cp_motions = s.cp_motions;
+    out.below_cycle_motions = s.below_cycle_motions;
+    out.rate_limited_motions = s.rate_limited_motions;
+    out.lookahead_limited_motions = s.lookahead_limited_motions;
+    out.shortest_motion_s = s.shortest_motion_s;
+    out.shortest_motion_line = s.shortest_motion_line;
     copy_sized(timing, out);
   });
 }
@@ -496,14 +503,18 @@ RP_API rp_status rp_feed_limit(const rp_session* session, int index, rp_feed_lim
                                            std::to_string(all.size()) + " listed)"};
     }
     const redpost::FeedLimit& f = all[static_cast<std::size_t>(index)];
-    const redpost::Joint& j = session->cell.joint(f.joint);
     rp_feed_limit_info out{};
     out.first_line = f.first_line;
     out.last_line = f.last_line;
     out.motions = f.motions;
     out.joint = f.joint;
-    out.joint_name = j.name.c_str();
-    out.axis_name = static_axis_name(j.axis);
+    out.joint_name = "";
+    out.axis_name = "-";
+    if (f.joint >= 0) {
+      const redpost::Joint& j = session->cell.joint(f.joint);
+      out.joint_name = j.name.c_str();
+      out.axis_name = static_axis_name(j.axis);
+    }
     out.limit = redpost::to_string(f.limit);
     out.lowest_mm_per_min = f.lowest_mm_per_min;
     out.asked_mm_per_min = f.asked_mm_per_min;

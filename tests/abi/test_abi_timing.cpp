@@ -114,6 +114,9 @@ TEST_CASE("abi timing: the cycle time, the time at the CL feeds and every motion
       const double length = distance(got[k - 1].tcp, m.tcp);
       CHECK(m.duration_s >= length / m.command_mm_s - 1e-9);
       CHECK(m.speed_mm_s <= m.command_mm_s * (1.0 + 1e-9));
+      // The controller's clock: a CP motion that moves lasts at least one 12 ms cycle.
+      if (length > 1e-6)
+        CHECK(m.duration_s >= 0.012 - 1e-12);
     }
     for (int j = 0; j < m.joint_count && j < 16; ++j)
       CHECK(m.speed_fraction[j] <= 1.0);
@@ -156,6 +159,13 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
   REQUIRE(t.feed_limits > 0);
   REQUIRE(t.feed_limits_listed > 0);
   CHECK(t.feed_limits_listed <= t.feed_limits);
+  // The clock of the shipped krc4_lin set (0.7).
+  CHECK(t.interpolation_cycle_s == 0.012);
+  CHECK(t.cp_motions > 0);
+  CHECK(t.below_cycle_motions <= t.cp_motions);
+  CHECK(t.rate_limited_motions <= t.below_cycle_motions);
+  CHECK(t.shortest_motion_s > 0.0);
+  CHECK(t.shortest_motion_line > 0);
 
   SECTION("every listed stretch") {
     for (int i = 0; i < t.feed_limits_listed; ++i) {
@@ -166,10 +176,17 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
       CHECK(f.first_line <= f.last_line);
       CHECK(f.motions >= 1);
       CHECK(f.lowest_mm_per_min < 0.95 * f.asked_mm_per_min);
-      CHECK(std::string(f.axis_name).size() == 2);
-      CHECK(std::string(f.joint_name).size() > 0);
       const std::string limit = f.limit;
-      CHECK((limit == "axis velocity" || limit == "axis acceleration" || limit == "corner"));
+      if (limit == "motion rate" || limit == "look-ahead") {
+        // The controller's clock, not an axis (0.7).
+        CHECK(f.joint == -1);
+        CHECK(std::string(f.axis_name) == "-");
+        CHECK(std::string(f.joint_name).empty());
+      } else {
+        CHECK((limit == "axis velocity" || limit == "axis acceleration" || limit == "corner"));
+        CHECK(std::string(f.axis_name).size() == 2);
+        CHECK(std::string(f.joint_name).size() > 0);
+      }
     }
     rp_feed_limit_info past{};
     past.struct_size = sizeof past;

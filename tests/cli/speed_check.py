@@ -3,7 +3,7 @@
 files and the cell's limits only (docs/timing.md, issue 17). Used by tests/cli/test_speeds.sh.
 
     speed_check.py PROGRAM.src JOINTS.csv CELL.xml [--feed MM_PER_MIN] [--limit FRACTION]
-                   [--max-time-ratio R]
+                   [--max-time-ratio R] [--ipo-cycle MS] [--max-cycle-ratio R]
 
 For every CP motion (LIN, SLIN, CIRC) after the first motion: the TCP path from the printed
 positions (a CIRC's arc through its auxiliary point), the time the controller needs at least at
@@ -15,6 +15,11 @@ has no row). Prints the highest fraction of a velocity limit and fails above --l
 With --feed: the cutting motions are those written at that feed or below it (the rapid speed
 is excluded); prints how much longer than at the feed they take at the written $VEL.CP, and
 fails above --max-time-ratio (issue 17: 1.10 at a production feed).
+
+The controller's clock (issue 30, docs/timing.md "The interpolation cycle"): counts the CP
+motions that last less than one interpolation cycle (--ipo-cycle, 12 ms) at their $VEL.CP, and
+with --feed the cutting time when each motion takes at least one cycle; fails above
+--max-cycle-ratio when given.
 """
 import math
 import re
@@ -101,6 +106,15 @@ def arc_length(a, b, c):
 def main(argv):
     args = argv[1:]
     feed, limit, max_ratio = None, 1.0, None
+    cycle, max_cycle_ratio = 0.012, None
+    if "--ipo-cycle" in args:
+        k = args.index("--ipo-cycle")
+        cycle = float(args[k + 1]) / 1000.0
+        del args[k:k + 2]
+    if "--max-cycle-ratio" in args:
+        k = args.index("--max-cycle-ratio")
+        max_cycle_ratio = float(args[k + 1])
+        del args[k:k + 2]
     if "--max-time-ratio" in args:
         k = args.index("--max-time-ratio")
         max_ratio = float(args[k + 1])
@@ -163,8 +177,8 @@ def main(argv):
         return 1
 
     worst, worst_at = 0.0, None
-    cut_written = cut_feed = 0.0
-    cp_count = 0
+    cut_written = cut_feed = cut_clocked = 0.0
+    cp_count = short = unmeasured = 0
     for k in range(1, len(matched)):
         kind, values, aux, v, o, row = matched[k]
         pk, pvalues, _, _, _, prow = matched[k - 1]
@@ -175,6 +189,7 @@ def main(argv):
             # from the joints only through the time at the orientation/axis rates below.
             pass
         if "X" not in values or "X" not in pvalues:
+            unmeasured += 1
             continue  # a CP motion after a PTP to axes: no printed start position
         p0 = [pvalues["X"], pvalues["Y"], pvalues["Z"]]
         p1 = [values["X"], values["Y"], values["Z"]]
@@ -183,9 +198,12 @@ def main(argv):
                                           rotation(values["A"], values["B"], values["C"])))
         time = max(length / v, turn / o)
         cp_count += 1
+        if 0.0 < time < cycle * (1.0 - 1e-4):  # as docs/timing.md counts them
+            short += 1
         if feed is not None and v <= feed / 60.0 * (1.0 + 1e-5):
             cut_written += length / v
             cut_feed += length / (feed / 60.0)
+            cut_clocked += max(length / v, cycle) if time > 0.0 else 0.0
         if time <= 0.0:
             continue
         for a in axes:
@@ -198,11 +216,19 @@ def main(argv):
     print("speed_check: %d CP motions, highest axis speed %.4f of its limit%s"
           % (cp_count, worst,
              " (%s, CL line %d, pose %d)" % worst_at if worst_at else ""))
+    print("speed_check: %d of %d CP motions last less than one %g ms interpolation cycle at "
+          "their $VEL.CP (%d not measured)" % (short, cp_count, cycle * 1000.0, unmeasured))
     if feed is not None and cut_feed > 0.0:
         print("speed_check: cutting at the written $VEL.CP takes %.4f x the time at %g mm/min"
               % (cut_written / cut_feed, feed))
+        print("speed_check: with one motion per %g ms cycle at most, %.4f x"
+              % (cycle * 1000.0, cut_clocked / cut_feed))
     if worst > limit:
         print("speed_check: FAIL: an axis passes %.2f of its velocity limit" % limit)
+        return 1
+    if max_cycle_ratio is not None and cut_feed > 0.0 and cut_clocked / cut_feed > max_cycle_ratio:
+        print("speed_check: FAIL: at one motion per cycle, cutting takes more than %.2f x the "
+              "time at the feed" % max_cycle_ratio)
         return 1
     if max_ratio is not None and cut_feed > 0.0 and cut_written / cut_feed > max_ratio:
         print("speed_check: FAIL: cutting takes more than %.2f x the time at the feed" % max_ratio)

@@ -191,6 +191,31 @@ expect_rc 1
 expect_out "path differs at "
 passed
 
+begin "check: motions shorter than the 12 ms interpolation cycle are warnings, --strict fails"
+# The pocket at 10 000 mm/min: most of its arc chords last less than a cycle at that speed.
+sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#' "$SRC/examples/cl/pocket_arcs.apt" >"$TMP/fast.apt"
+mkdir -p "$TMP/fast"
+run convert "$TMP/fast.apt" --cell "$CELL" -o "$TMP/fast" --name FAST
+expect_rc 0
+said=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of .*/\1/p' "$TMP/out")
+run check "$TMP/fast/FAST.src" --cell "$CELL"
+expect_rc 0
+expect_out "FAST.src:"
+expect_out ": warning: "
+expect_out "last less than one 12 ms interpolation cycle at the \$VEL.CP in force"
+counted=$(sed -n 's/.*: motion rate: \([0-9]*\) of .*/\1/p' "$TMP/out")
+[[ -n "$said" && -n "$counted" && "$counted" -gt 0 ]] || fail "no motion rate counts ($said, $counted)"
+# convert counts the LIN after the first PTP too (its start is known to it, not to the text).
+((said - counted >= 0 && said - counted <= 1)) || fail "convert says $said short motions, check $counted"
+run check "$TMP/fast/FAST.src" --cell "$CELL" --strict
+expect_rc 1
+run check "$TMP/fast/FAST.src" --cell "$CELL" --ipo-cycle 0
+expect_rc 0
+[[ ! -s "$TMP/out" ]] || fail "findings with the cycle check off: $(head -3 "$TMP/out")"
+run check "$TMP/fast/FAST.src" --ipo-cycle -1
+expect_rc 2
+passed
+
 begin "check: evaluation KRL files"
 if [[ -d /work/shared/evaldata/krl ]]; then
   for f in /work/shared/evaldata/krl/*.src /work/shared/evaldata/krl; do

@@ -30,6 +30,17 @@ speeds() {
   $py "$check_py" "$TMP/$name/P.src" "$TMP/$name/joints.csv" "$cell" "${feed[@]}" \
     >"$TMP/check" 2>&1 || fail "$name: $(cat "$TMP/check")"
   echo "cli.speeds: $name: $(tr '\n' ' ' <"$TMP/check")"
+  # The motions shorter than one interpolation cycle: convert's count (from its own figures)
+  # and the check's (from the written text) agree but for the motions the check cannot measure
+  # (a LIN after a PTP to axes has no printed start).
+  local said counted unmeasured
+  said=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of .*/\1/p' "$TMP/out")
+  counted=$(sed -n 's/^speed_check: \([0-9]*\) of [0-9]* CP motions last less than one .*/\1/p' "$TMP/check")
+  unmeasured=$(sed -n 's/.*(\([0-9]*\) not measured)$/\1/p' "$TMP/check")
+  [[ -n "$said" && -n "$counted" && -n "$unmeasured" ]] || fail "$name: no count of short motions"
+  local gap=$((said - counted))
+  ((gap >= 0 && gap <= unmeasured)) ||
+    fail "$name: convert says $said motions are shorter than a cycle, the program shows $counted"
 }
 
 # fast CL_FILE OUT: the CL file with every feed set to 10 000 mm/min (a cycle's feed too).

@@ -9,9 +9,10 @@ redpost=$1
 src=$2
 out=$3
 here=$(cd "$(dirname "$0")" && pwd)
-# Joints, axis speed fractions, path speed, 1/kappa_F, external axes, the plan against the
-# written joints (E1, E2, the spin), iterations, feed and the XY, XZ, YZ toolpath projections.
-expected=13
+# Joints, axis speed fractions, path speed, motion duration against the interpolation cycle,
+# 1/kappa_F, external axes, the plan against the written joints (E1, E2, the spin), iterations,
+# feed and the XY, XZ, YZ toolpath projections.
+expected=14
 rm -rf "$out" && mkdir -p "$out" || exit 1
 "$redpost" convert "$src/examples/cl/pocket_arcs.apt" \
   --cell "$src/definitions/cells/andres2011_kr15_track_table.xml" -o "$out" --name POCKET -q \

@@ -86,25 +86,25 @@ set cl $src/examples/cl
 # --- the package ----------------------------------------------------------------------------------
 
 set auto_path [linsert $auto_path 0 $libdir]
-check package.require {package require redpost} 0.6.0
-check package.version {::redpost::version} 0.6.0
+check package.require {package require redpost} 0.7.0
+check package.version {::redpost::version} 0.7.0
 check package.namespace {
     expr {[llength [info commands ::redpost::*]] >= 22}
 }
 
-# The package from an install layout: <libdir>/redpost0.6.0/pkgIndex.tcl, library one level up.
+# The package from an install layout: <libdir>/redpost0.7.0/pkgIndex.tcl, library one level up.
 check package.install_layout {
     set inst $::work/install/lib
-    file mkdir $inst/redpost0.6.0
-    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.6.0/
+    file mkdir $inst/redpost0.7.0
+    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.7.0/
     # The real file under the SONAME (in the build tree libredpost.so.0 is a symlink).
-    file copy [file join $::libdir libredpost.so.0.6.0] $inst/libredpost.so.0
+    file copy [file join $::libdir libredpost.so.0.7.0] $inst/libredpost.so.0
     set child [interp create]
     $child eval [list set auto_path [linsert [$child eval set auto_path] 0 $inst]]
     set v [$child eval {package require redpost; ::redpost::version}]
     set loaded [$child eval {info loaded}]
     interp delete $child
-    expr {$v eq "0.6.0" && [string match *install/lib/libredpost.so.0* $loaded]}
+    expr {$v eq "0.7.0" && [string match *install/lib/libredpost.so.0* $loaded]}
 }
 
 # --- usage errors ---------------------------------------------------------------------------------
@@ -345,7 +345,7 @@ check interp.safe {
     set r [list [$safe eval ::redpost::version] [llength [$safe eval {info commands ::redpost::*}]]]
     interp delete $safe
     set r
-} {0.6.0 1}
+} {0.7.0 1}
 
 # --- the handlers, as NX calls them -------------------------------------------------------------------
 

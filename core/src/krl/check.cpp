@@ -558,6 +558,35 @@ std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
     }
     break;
   }
+  if (options.motion_rate.interpolation_cycle_s > 0.0) {
+    KrlMotionRate rate = krl_motion_rate(program, options.motion_rate);
+    const double cycle_ms = 1000.0 * options.motion_rate.interpolation_cycle_s;
+    for (std::size_t i = 0; i < rate.stretches.size(); ++i) {
+      const KrlShortStretch& st = rate.stretches[i];
+      if (i == kKrlMaxShortStretchWarnings) {
+        out.push_back({st.file, st.first_line,
+                       fmt::format("{} more stretches of motions shorter than the {:g} ms "
+                                   "interpolation cycle from here (not listed)",
+                                   rate.stretches.size() - i, cycle_ms),
+                       true});
+        break;
+      }
+      const std::string lines =
+          st.first_line == st.last_line
+              ? fmt::format("this motion")
+              : fmt::format("{} CP motions to line {}", st.motions, st.last_line);
+      out.push_back(
+          {st.file, st.first_line,
+           fmt::format("{} last{} less than one {:g} ms interpolation cycle at the $VEL.CP in "
+                       "force (shortest {:.1f} ms): the controller cannot run {} that fast "
+                       "(docs/timing.md)",
+                       lines, st.motions == 1 ? "s" : "", cycle_ms, 1000.0 * st.shortest_s,
+                       st.motions == 1 ? "it" : "them"),
+           true});
+    }
+    if (options.motion_rates)
+      options.motion_rates->emplace_back(program.main_file, std::move(rate));
+  }
   if (options.cell) {
     const Cell& cell = *options.cell;
     const char* const names[12] = {"A1", "A2", "A3", "A4", "A5", "A6",

@@ -444,8 +444,8 @@ void check_statements(const Reader& r, const XMLElement* root, const KrlTemplate
 // <timing>: what the program's skeleton sets up for the controller's motion, for the time
 // model (docs/timing.md). Every attribute is optional; the defaults are documented there.
 void read_timing(const Reader& r, const XMLElement* e, KrlTemplateSet& set) {
-  r.only_attributes(
-      e, {"ptp-velocity", "ptp-acceleration", "path-acceleration", "orientation-velocity"});
+  r.only_attributes(e, {"ptp-velocity", "ptp-acceleration", "path-acceleration",
+                        "orientation-velocity", "interpolation-cycle", "advance"});
   if (e->Attribute("ptp-velocity"))
     set.timing.ptp_velocity_percent = r.real(e, "ptp-velocity", 1.0, 100.0);
   if (e->Attribute("ptp-acceleration"))
@@ -454,6 +454,31 @@ void read_timing(const Reader& r, const XMLElement* e, KrlTemplateSet& set) {
     set.timing.path_acceleration_m_s2 = r.real(e, "path-acceleration", 0.01, 100.0);
   if (e->Attribute("orientation-velocity"))
     set.timing.orientation_velocity_deg_s = r.real(e, "orientation-velocity", 1.0, 10000.0);
+  if (e->Attribute("interpolation-cycle"))
+    set.timing.interpolation_cycle_ms = r.real(e, "interpolation-cycle", 1.0, 100.0);
+  if (e->Attribute("advance"))
+    set.timing.advance = r.integer(e, "advance", 0, 5);
+}
+
+// The $ADVANCE a skeleton sets (the last "$ADVANCE = n" of its text), -1 if none: the time
+// model must plan with the look-ahead the program really sets.
+int skeleton_advance(const std::string& text) {
+  int found = -1;
+  std::size_t at = 0;
+  while ((at = text.find("$ADVANCE", at)) != std::string::npos) {
+    std::size_t k = at + 8;
+    at = k;
+    while (k < text.size() && (text[k] == ' ' || text[k] == '\t'))
+      ++k;
+    if (k >= text.size() || text[k] != '=')
+      continue;
+    ++k;
+    while (k < text.size() && (text[k] == ' ' || text[k] == '\t'))
+      ++k;
+    if (k < text.size() && text[k] >= '0' && text[k] <= '9')
+      found = text[k] - '0';
+  }
+  return found;
 }
 
 }  // namespace
@@ -558,6 +583,16 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       r.fail(root, "<krl-templates> needs a <file kind=\"" + std::string(s.kind) + "\">");
   }
   check_statements(r, root, set, statement_line);
+  // The look-ahead the time model plans with is the one the program sets.
+  const int set_advance = skeleton_advance(set.src_file);
+  if (set_advance >= 0) {
+    if (timing && timing->Attribute("advance") && set_advance != set.timing.advance) {
+      r.fail(timing, "<timing advance=\"" + std::to_string(set.timing.advance) +
+                         "\"> but the src skeleton sets $ADVANCE = " + std::to_string(set_advance) +
+                         ": give one value (docs/timing.md)");
+    }
+    set.timing.advance = set_advance;
+  }
   return set;
 }
 

@@ -47,12 +47,19 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   c.orientation_velocity_rad_s = deg_to_rad(templates.timing.orientation_velocity_deg_s);
   c.ptp_velocity_fraction = templates.timing.ptp_velocity_percent / 100.0;
   c.ptp_acceleration_fraction = templates.timing.ptp_acceleration_percent / 100.0;
+  c.interpolation_cycle_s = templates.timing.interpolation_cycle_ms / 1000.0;
+  // A SPLINE block is planned whole: its motions see to the block's end (at most its size).
+  c.lookahead_motions = templates.spline
+                            ? std::max(templates.max_spline_points, templates.timing.advance)
+                            : templates.timing.advance;
+  interpolation_cycle_s = c.interpolation_cycle_s;
   orientation_velocity_rad_s = c.orientation_velocity_rad_s;
   ptp_velocity_fraction = c.ptp_velocity_fraction;
   ptp_acceleration_fraction = c.ptp_acceleration_fraction;
   velocity_decimals = templates.velocity_decimals;
   apo_mm = o.program.apo_mm;
   summary.axis_speeds_known = cell.has_axis_speeds();
+  summary.interpolation_cycle_s = c.interpolation_cycle_s;
   timer = std::make_unique<PathTimer>(
       cell, c, [this](const TimedMotion& t, const MotionTiming& mt) { on_timed(t, mt); });
   if (!summary.axis_speeds_known) {
@@ -291,6 +298,20 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
     summary.cutting_time_s += mt.duration_s;
     summary.feed_time_s += t.tcp_length_mm / t.asked_mm_s;
   }
+  if (cp) {
+    ++summary.cp_motions;
+    summary.below_cycle_motions += mt.below_cycle ? 1 : 0;
+    summary.rate_limited_motions += mt.limit == TimingLimit::motion_rate ? 1 : 0;
+    summary.lookahead_limited_motions += mt.limit == TimingLimit::lookahead ? 1 : 0;
+    // Its time at the $VEL.CP written (and $VEL.ORI1), as a check of the program computes it.
+    const double speed = std::min(t.command_mm_s, t.orientation_cap_mm_s);
+    const double at_command = speed > 0.0 ? t.length_mm / speed : 0.0;
+    if (t.length_mm > 0.0 &&
+        (summary.shortest_motion_line == 0 || at_command < summary.shortest_motion_s)) {
+      summary.shortest_motion_s = at_command;
+      summary.shortest_motion_line = t.cl_line;
+    }
+  }
 
   // Per joint, the fraction of its velocity limit it reaches.
   fraction.setZero(n);
@@ -331,17 +352,20 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
   } else if (open_slowdown) {
     close_slowdown();
   }
-  const bool by_axis =
-      cp && mt.joint >= 0 && mt.peak_mm_s < kReportBelow * t.asked_mm_s &&
-      (mt.limit == TimingLimit::axis_velocity || mt.limit == TimingLimit::axis_acceleration ||
-       mt.limit == TimingLimit::corner);
+  const bool by_axis = cp && mt.peak_mm_s < kReportBelow * t.asked_mm_s &&
+                       ((mt.joint >= 0 && (mt.limit == TimingLimit::axis_velocity ||
+                                           mt.limit == TimingLimit::axis_acceleration ||
+                                           mt.limit == TimingLimit::corner)) ||
+                        mt.limit == TimingLimit::motion_rate || mt.limit == TimingLimit::lookahead);
   if (by_axis) {
-    if (open_limit && (open_limit->joint != mt.joint || open_limit->limit != mt.limit))
+    const int stretch_joint =
+        mt.limit == TimingLimit::motion_rate || mt.limit == TimingLimit::lookahead ? -1 : mt.joint;
+    if (open_limit && (open_limit->joint != stretch_joint || open_limit->limit != mt.limit))
       close_limit();
     if (!open_limit) {
       open_limit = FeedLimit{};
       open_limit->first_line = t.cl_line;
-      open_limit->joint = mt.joint;
+      open_limit->joint = stretch_joint;
       open_limit->limit = mt.limit;
       open_limit->lowest_mm_per_min = mt.peak_mm_s * 60.0;
       open_limit->asked_mm_per_min = t.asked_mm_s * 60.0;

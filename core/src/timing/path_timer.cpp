@@ -14,6 +14,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kMaxBuffered = 1u << 16;
 // Planning runs after this many motions (and at every stop): amortised O(1) per motion.
 constexpr std::size_t kPlanEvery = 64;
+// "Shorter than a cycle" leaves out motions within 1e-4 of one cycle: a 2 mm step at
+// 10 m/min lasts exactly 12 ms, and the printed $VEL.CP's last decimal must not decide.
+constexpr double kBelowCycle = 1.0 - 1e-4;
 
 bool same(double a, double b) {
   return a == b || std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
@@ -37,12 +40,22 @@ const char* to_string(TimingLimit limit) {
       return "orientation speed";
     case TimingLimit::stop:
       return "exact stop";
+    case TimingLimit::motion_rate:
+      return "motion rate";
+    case TimingLimit::lookahead:
+      return "look-ahead";
   }
   return "?";
 }
 
 PathTimer::PathTimer(const Cell& cell, const ControllerTiming& controller, Callback done)
-    : cell_(&cell), controller_(controller), done_(std::move(done)) {}
+    : cell_(&cell), controller_(controller), done_(std::move(done)) {
+  controller_.lookahead_motions = std::min(controller_.lookahead_motions, kMaxLookaheadMotions);
+  if (controller_.lookahead_motions > 0)
+    recent_.resize(static_cast<std::size_t>(controller_.lookahead_motions) + 1);
+  if (!(controller_.interpolation_cycle_s > 0.0))
+    controller_.interpolation_cycle_s = 0.0;
+}
 
 double PathTimer::velocity_cap(const Cell& cell, const JointVector& rate, int* joint) {
   double cap = kInf;
@@ -119,6 +132,12 @@ void PathTimer::push(const TimedMotion& motion) {
                        acceleration_cap(*cell_, motion.peak_rate, &e.accel_joint));
     if (e.accel >= controller_.path_acceleration_mm_s2)
       e.accel_joint = -1;
+    // The motion block takes at least one interpolation cycle (the controller prepares one
+    // block per cycle at most): cruise at most length / cycle.
+    if (controller_.interpolation_cycle_s > 0.0 && motion.length_mm > 0.0) {
+      e.rate_cap = motion.length_mm / controller_.interpolation_cycle_s;
+      e.cruise = std::min(e.cruise, e.rate_cap);
+    }
   }
   if (!buffer_.empty()) {
     Entry& prev = buffer_.back();
@@ -154,11 +173,25 @@ void PathTimer::push(const TimedMotion& motion) {
       } else {
         v = 0.0;
       }
+      // $ADVANCE 0: no blending at all (the controller stops at every point).
+      if (controller_.lookahead_motions == 0)
+        v = 0.0;
       prev.junction = v;
+      prev.junction_corner = v;
       prev.corner_joint = which;
     }
   }
   buffer_.push_back(e);
+  if (!recent_.empty()) {
+    Recent& r = recent_[static_cast<std::size_t>(pushed_) % recent_.size()];
+    r.length_mm = e.m.kind == TimedMotion::Kind::cp ? e.m.length_mm : 0.0;
+    r.accel = e.accel;
+    r.ptp = e.m.kind == TimedMotion::Kind::ptp;
+  }
+  if (e.m.kind == TimedMotion::Kind::ptp)
+    last_stop_ = pushed_;
+  ++pushed_;
+  bound_by_lookahead();
   const bool at_rest = e.m.kind == TimedMotion::Kind::ptp || e.m.stop_after;
   if (at_rest) {
     plan(true);
@@ -167,7 +200,36 @@ void PathTimer::push(const TimedMotion& motion) {
   }
 }
 
+// The planner sees the current motion and the next `lookahead_motions`: motion k must be able
+// to stop by the end of motion k + A. From rest at that end, going backward over motions that
+// may all brake at their path acceleration, the highest speed at the end of k is
+// v^2 = 2 sum_{j=k+1}^{k+A} a_j S_j. A stop (a PTP, a statement) inside the window is seen by
+// the planner and already bounds k through the junctions; the window then adds nothing.
+void PathTimer::bound_by_lookahead() {
+  const int a = controller_.lookahead_motions;
+  if (a <= 0 || pushed_ <= a)
+    return;
+  const long k = pushed_ - 1 - a;  // the motion whose window is now complete
+  if (last_stop_ > k)
+    return;
+  double sum = 0.0;
+  for (long j = k + 1; j < pushed_; ++j) {
+    const Recent& r = recent_[static_cast<std::size_t>(j) % recent_.size()];
+    sum += 2.0 * r.accel * r.length_mm;
+  }
+  const long first_buffered = pushed_ - static_cast<long>(buffer_.size());
+  if (k < first_buffered)
+    return;  // already timed: its exit was planned within fewer motions, lower still
+  Entry& ek = buffer_[static_cast<std::size_t>(k - first_buffered)];
+  const double v = std::sqrt(sum);
+  if (ek.m.kind == TimedMotion::Kind::cp && v < ek.junction) {
+    ek.junction = v;
+    ek.lookahead_bound = true;
+  }
+}
+
 void PathTimer::stop(double dwell_s) {
+  last_stop_ = pushed_ - 1;
   if (buffer_.empty()) {
     clock_s_ += dwell_s;
     return;
@@ -260,10 +322,22 @@ void PathTimer::emit_front(std::size_t count) {
                          std::sqrt(0.5 * (2.0 * e.accel * m.length_mm + v0 * v0 + v1 * v1)))
               : 0.0;
       // What kept it below the asked speed.
+      if (controller_.interpolation_cycle_s > 0.0 && m.length_mm > 0.0 &&
+          m.length_mm < std::min(m.command_mm_s, m.orientation_cap_mm_s) *
+                            controller_.interpolation_cycle_s * kBelowCycle)
+        t.below_cycle = true;
       if (t.peak_mm_s < m.asked_mm_s * (1.0 - 1e-6)) {
         int vj = -1;
         const double v_axes = velocity_cap(*cell_, m.peak_rate, &vj);
-        if (m.command_joint >= 0 && m.command_mm_s < m.asked_mm_s) {
+        // The motion rate is what limits it where the cycle's cap is the cruise speed (below
+        // $VEL.CP by more than the rounding, kBelowCycle) and the motion reaches it; a motion
+        // kept lower by its junctions is classified by them below.
+        const bool rate_binds = e.rate_cap < m.command_mm_s * kBelowCycle &&
+                                e.rate_cap < m.orientation_cap_mm_s && same(e.cruise, e.rate_cap) &&
+                                t.peak_mm_s >= e.cruise * (1.0 - 1e-6);
+        if (rate_binds) {
+          t.limit = TimingLimit::motion_rate;
+        } else if (m.command_joint >= 0 && m.command_mm_s < m.asked_mm_s) {
           t.limit = TimingLimit::axis_velocity;
           t.joint = m.command_joint;
         } else if (v_axes < m.asked_mm_s && same(e.cruise, v_axes)) {
@@ -276,7 +350,9 @@ void PathTimer::emit_front(std::size_t count) {
           // Not reaching the cruise speed: the junctions or the acceleration.
           const bool stop_in = v0 == 0.0, stop_out = v1 == 0.0;
           const bool corner_out = e.corner_joint != -1 && same(v1, e.junction);
-          if (corner_out) {
+          if (e.lookahead_bound && same(v1, e.junction)) {
+            t.limit = TimingLimit::lookahead;
+          } else if (corner_out) {
             t.limit = TimingLimit::corner;
             t.joint = e.corner_joint >= 0 ? e.corner_joint : -1;
           } else if (e.accel_joint >= 0) {

@@ -158,6 +158,10 @@ struct ConvertReport::Impl {
   // The time model: per joint the fraction of its velocity limit; path speeds in mm/min.
   std::vector<rep::MinMaxDecimator> speed_fraction;
   rep::MinMaxDecimator speed_reached{kBuckets}, speed_asked{kBuckets}, speed_written{kBuckets};
+  // The controller's clock: each CP motion's duration at its $VEL.CP and as the model runs it
+  // (ms), against the interpolation cycle.
+  rep::MinMaxDecimator duration_at_command{kBuckets}, duration_run{kBuckets};
+  double last_tcp[3] = {kNaN, kNaN, kNaN};
   // The whole-path plan: per joint, the planned and the written value in DH units (deg, mm).
   std::vector<rep::MinMaxDecimator> planned_dh, written_dh;
   std::vector<double> plan_deviation;  // per joint, the largest |written - planned|
@@ -196,6 +200,13 @@ struct ConvertReport::Impl {
     speed_reached.push(x, cp ? 60.0 * m.speed_mm_s : kNaN);
     speed_asked.push(x, cp ? 60.0 * m.asked_mm_s : kNaN);
     speed_written.push(x, cp ? 60.0 * m.command_mm_s : kNaN);
+    const double moved = std::sqrt((m.tcp[0] - last_tcp[0]) * (m.tcp[0] - last_tcp[0]) +
+                                   (m.tcp[1] - last_tcp[1]) * (m.tcp[1] - last_tcp[1]) +
+                                   (m.tcp[2] - last_tcp[2]) * (m.tcp[2] - last_tcp[2]));
+    const bool timed_cp = cp && moved > 1e-6 && m.command_mm_s > 0.0;  // NaN compares false
+    duration_at_command.push(x, timed_cp ? 1000.0 * moved / m.command_mm_s : kNaN);
+    duration_run.push(x, timed_cp ? 1000.0 * m.duration_s : kNaN);
+    std::copy(m.tcp, m.tcp + 3, last_tcp);
     last_time_s = m.time_s;
     planned_motions += m.planned ? 1 : 0;
     for (std::size_t i = 0; i < joints.size() && i < 16; ++i) {
@@ -474,6 +485,37 @@ void add_solver_and_feed_section(rep::HtmlReport& r, const ConvertReport::Impl& 
 
 // The time model (docs/timing.md): cycle time, every axis's speed against its limit along the
 // path, the path speed against the feed, and where an axis keeps the feed low.
+// The controller's clock (docs/timing.md, "The interpolation cycle"): how long each CP motion
+// lasts at its $VEL.CP, and as the controller runs it, against one interpolation cycle.
+void add_cycle_plot(rep::HtmlReport& r, const ConvertReport::Impl& d, const rp_timing& t) {
+  if (!(t.interpolation_cycle_s > 0.0) || t.cp_motions == 0)
+    return;
+  const double cycle_ms = 1000.0 * t.interpolation_cycle_s;
+  std::string text = fmt::format(
+      "The controller interpolates every {:g} ms and prepares one motion per cycle at most: {} of "
+      "the {} CP motions ({:.0f} %) last less than a cycle at their $VEL.CP (the shortest {:.1f} "
+      "ms, CL line {}). The time model runs them at one per cycle: {} were slowed by that motion "
+      "rate, {} by the look-ahead ($ADVANCE: the planner must be able to stop within the motions "
+      "it sees).",
+      cycle_ms, t.below_cycle_motions, t.cp_motions,
+      100.0 * static_cast<double>(t.below_cycle_motions) / static_cast<double>(t.cp_motions),
+      1000.0 * t.shortest_motion_s, t.shortest_motion_line, t.rate_limited_motions,
+      t.lookahead_limited_motions);
+  if (t.below_cycle_motions > 0)
+    r.add_warning(text);
+  else
+    r.add_paragraph(text);
+  rep::LinePlot cp;
+  cp.title = "Duration of the CP motions against the interpolation cycle";
+  cp.x = motion_axis(d.motions);
+  cp.y = rep::make_axis("duration", "ms", true);
+  cp.hlines.push_back(hline(cycle_ms, fmt::format("interpolation cycle ({:g} ms)", cycle_ms)));
+  cp.series.push_back(series_of("at its $VEL.CP", d.duration_at_command.result()));
+  cp.series.push_back(series_of("as the controller runs it (time model)", d.duration_run.result()));
+  cp.series.back().dashed = true;
+  r.add_plot(std::move(cp));
+}
+
 void add_speed_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
                        const rp_session* session) {
   r.add_section("Axis speeds and cycle time");
@@ -491,10 +533,12 @@ void add_speed_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
   }
   text +=
       ". Trapezoidal profile along the path within every axis's velocity and acceleration "
-      "limits, as docs/timing.md describes.";
+      "limits, one motion per interpolation cycle at most and the look-ahead of $ADVANCE "
+      "motions, as docs/timing.md describes.";
   if (t.untimed_tool_changes > 0)
     text += fmt::format(" The {} tool change(s) are not timed.", t.untimed_tool_changes);
   r.add_paragraph(text);
+  add_cycle_plot(r, d, t);
   if (!t.axis_speeds_known) {
     r.add_warning("The cell gives no axis speeds: they were not checked.");
     return;
@@ -533,12 +577,13 @@ void add_speed_section(rep::HtmlReport& r, const ConvertReport::Impl& d,
   if (t.feed_limits == 0)
     return;
   rep::Table tab;
-  tab.caption =
-      fmt::format("Where an axis keeps the feed 5 % or more below the CL file's: {} stretch(es){}.",
-                  t.feed_limits,
-                  t.feed_limits > t.feed_limits_listed
-                      ? fmt::format(", the first {} listed", t.feed_limits_listed)
-                      : std::string());
+  tab.caption = fmt::format(
+      "Where an axis or the controller's clock keeps the feed 5 % or more below the "
+      "CL file's: {} stretch(es){}.",
+      t.feed_limits,
+      t.feed_limits > t.feed_limits_listed
+          ? fmt::format(", the first {} listed", t.feed_limits_listed)
+          : std::string());
   tab.header = {"CL lines",        "axis",           "joint",  "limited by",
                 "lowest [mm/min]", "asked [mm/min]", "motions"};
   for (int i = 0; i < t.feed_limits_listed; ++i) {

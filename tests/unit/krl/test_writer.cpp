@@ -229,6 +229,24 @@ TEST_CASE("krl_writer: the shipped template sets load") {
   }
 }
 
+TEST_CASE("krl_writer: the time model's clock comes from the set and its skeleton") {
+  // The shipped KR C4 sets write $ADVANCE = 3 and say nothing else: a 12 ms cycle, look-ahead 3.
+  const KrlTemplateSet lin = load_krl_templates(template_path("krc4_lin"));
+  CHECK(lin.timing.interpolation_cycle_ms == 12.0);
+  CHECK(lin.timing.advance == 3);
+  // The skeleton's $ADVANCE wins over the default; the attribute sets it where none is written.
+  const std::string good = read_bytes(template_path("krc4_lin"));
+  const KrlTemplateSet five =
+      parse_krl_templates(replaced(good, "$ADVANCE = 3", "$ADVANCE = 5"), "5.xml");
+  CHECK(five.timing.advance == 5);
+  const KrlTemplateSet none = parse_krl_templates(
+      replaced(replaced(good, "$ADVANCE = 3\n", ""), "<timing ptp-velocity=\"20\"/>",
+               "<timing ptp-velocity=\"20\" advance=\"1\" interpolation-cycle=\"4\"/>"),
+      "1.xml");
+  CHECK(none.timing.advance == 1);
+  CHECK(none.timing.interpolation_cycle_ms == 4.0);
+}
+
 TEST_CASE("krl_writer: the example of docs/krl-templates.md loads and writes") {
   const std::string doc = read_bytes(test::source_path("docs/krl-templates.md"));
   const size_t begin = doc.find("```xml\n");
@@ -260,6 +278,16 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
   };
   REQUIRE_NOTHROW(parse_krl_templates(good, "good.xml"));
 
+  SECTION("a look-ahead other than the skeleton's $ADVANCE") {
+    const std::string bad = replaced(good, "<timing ptp-velocity=\"20\"/>",
+                                     "<timing ptp-velocity=\"20\" advance=\"2\"/>");
+    expect_error(bad, line_of(bad, "advance=\"2\""), "sets $ADVANCE = 3");
+  }
+  SECTION("an interpolation cycle out of range") {
+    const std::string bad = replaced(good, "<timing ptp-velocity=\"20\"/>",
+                                     "<timing ptp-velocity=\"20\" interpolation-cycle=\"0\"/>");
+    expect_error(bad, line_of(bad, "interpolation-cycle"), "interpolation-cycle");
+  }
   SECTION("unknown placeholder in a statement") {
     const std::string bad = replaced(good, "Y {y}, Z {z}, A {a}, B {b}, C {c}{ext}} C_DIS",
                                      "Y {y}, Z {zz}, A {a}, B {b}, C {c}{ext}} C_DIS");

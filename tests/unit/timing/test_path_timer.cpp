@@ -54,6 +54,15 @@ std::vector<Timed> run(const Cell& cell, const ControllerTiming& c,
   return out;
 }
 
+// The time model without the controller's clock: no interpolation cycle, unlimited look-ahead
+// (the profile alone, as the tests before the cycle was modelled).
+ControllerTiming unclocked() {
+  ControllerTiming c;
+  c.interpolation_cycle_s = 0.0;
+  c.lookahead_motions = -1;
+  return c;
+}
+
 double total(const std::vector<Timed>& v) {
   return v.empty() ? 0.0 : v.back().t.start_s + v.back().t.duration_s + v.back().m.dwell_after_s;
 }
@@ -78,7 +87,7 @@ TEST_CASE("path_timer: stop-to-stop trapezoids and triangles in closed form", "[
 TEST_CASE("path_timer: one motion from rest to rest, and the same path in 1000 blended pieces",
           "[timing]") {
   const Cell cell = timing_cell();
-  ControllerTiming c;
+  ControllerTiming c = unclocked();
   c.path_acceleration_mm_s2 = 2000.0;
   JointVector rate = JointVector::Zero(cell.size());
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
@@ -104,7 +113,7 @@ TEST_CASE("path_timer: an axis's velocity and acceleration limits cap the path s
   const Cell cell = timing_cell();
   const int track = cell.find_joint("d_L");
   REQUIRE(track >= 0);
-  ControllerTiming c;
+  ControllerTiming c = unclocked();
   JointVector rate = JointVector::Zero(cell.size());
   rate[track] = 2.0;  // the track moves 2 mm per mm of path: at most 500 mm/s of path
   int joint = -1;
@@ -123,7 +132,7 @@ TEST_CASE("path_timer: an axis's velocity and acceleration limits cap the path s
 
 TEST_CASE("path_timer: PTPs, stops and dwells end the blending", "[timing]") {
   const Cell cell = timing_cell();
-  ControllerTiming c;
+  ControllerTiming c = unclocked();
   const JointVector rate = JointVector::Zero(cell.size());
   const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
   TimedMotion ptp;
@@ -157,7 +166,13 @@ TEST_CASE("path_timer: PTPs, stops and dwells end the blending", "[timing]") {
 
 TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid", "[timing]") {
   const Cell cell = timing_cell();
-  ControllerTiming c;
+  // Without the clock, and with a KR C4's (12 ms, $ADVANCE 3) and a tighter one (1 motion).
+  const int clocked = GENERATE(0, 1, 2);
+  ControllerTiming c = unclocked();
+  if (clocked) {
+    c.interpolation_cycle_s = 0.012;
+    c.lookahead_motions = clocked == 1 ? 3 : 1;
+  }
   c.path_acceleration_mm_s2 = 1500.0;
   std::mt19937_64 rng(20261201);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -188,8 +203,9 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
     std::vector<std::size_t> owner;
     for (std::size_t k = 0; k < motions.size(); ++k) {
       const TimedMotion& m = motions[k];
-      const double cruise =
-          std::min(m.command_mm_s, PathTimer::velocity_cap(cell, m.peak_rate, nullptr));
+      double cruise = std::min(m.command_mm_s, PathTimer::velocity_cap(cell, m.peak_rate, nullptr));
+      if (c.interpolation_cycle_s > 0.0)
+        cruise = std::min(cruise, m.length_mm / c.interpolation_cycle_s);
       const double a = std::min(c.path_acceleration_mm_s2,
                                 PathTimer::acceleration_cap(cell, m.peak_rate, nullptr));
       const int steps = std::max(200, static_cast<int>(m.length_mm / 0.002));
@@ -204,8 +220,11 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
       if (k + 1 < motions.size() && !m.stop_after && m.blend_mm > 0.0) {
         const TimedMotion& nx = motions[k + 1];
         const double d = std::min({m.blend_mm, 0.5 * m.length_mm, 0.5 * nx.length_mm});
-        j = std::min(cruise, std::min(nx.command_mm_s,
-                                      PathTimer::velocity_cap(cell, nx.peak_rate, nullptr)));
+        double next_cruise =
+            std::min(nx.command_mm_s, PathTimer::velocity_cap(cell, nx.peak_rate, nullptr));
+        if (c.interpolation_cycle_s > 0.0)
+          next_cruise = std::min(next_cruise, nx.length_mm / c.interpolation_cycle_s);
+        j = std::min(cruise, next_cruise);
         for (int i = 0; i < cell.size(); ++i) {
           const double dr = std::fabs(nx.chord_rate[i] - m.chord_rate[i]);
           if (cell.joint(i).has_speed() && dr > 0.0)
@@ -216,6 +235,21 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
           j = std::min(j, std::sqrt(c.path_acceleration_mm_s2 * d / dt));
       }
       cap.back() = std::min(cap.back(), j);  // the grid point at the motion's end
+    }
+    // The look-ahead: at each motion's end, the speed from which the grid can still stop by the
+    // end of the motion `lookahead_motions` later (a backward pass at rest from there).
+    if (c.lookahead_motions > 0) {
+      std::vector<std::size_t> end_of(motions.size());
+      for (std::size_t i = 0; i < owner.size(); ++i)
+        end_of[owner[i]] = i;
+      for (std::size_t k = 0; k + 1 < motions.size(); ++k) {
+        const std::size_t last =
+            std::min(motions.size() - 1, k + static_cast<std::size_t>(c.lookahead_motions));
+        double w = 0.0;
+        for (std::size_t i = end_of[last]; i > end_of[k]; --i)
+          w = std::sqrt(w * w + 2.0 * accel[i] * s_at[i]);
+        cap[end_of[k]] = std::min(cap[end_of[k]], w);
+      }
     }
     // Forward and backward passes on the grid (v^2 grows by at most 2 a ds per step).
     const std::size_t n = cap.size();
@@ -237,7 +271,61 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
       brute += mean > 0.0 ? s_at[i] / mean : 0.0;
       before = v[i];
     }
-    INFO("trial " << trial);
+    INFO("trial " << trial << ", clock " << clocked);
     CHECK(total(timed) == Approx(brute).epsilon(0.01));
   }
+}
+
+TEST_CASE("path_timer: motions shorter than the interpolation cycle cost a cycle each",
+          "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.interpolation_cycle_s = 0.012;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // 1000 blended pieces of 1 mm asked at 100 mm/s last 10 ms each: below the 12 ms cycle, so
+  // the path runs at 1 mm / 12 ms = 83.3 mm/s: 12 s plus the ramp from rest, v / (2 a) more.
+  std::vector<TimedMotion> pieces(1000, cp(1.0, 100.0, rate, x, 0.5));
+  const std::vector<Timed> many = run(cell, c, pieces);
+  const double v = 1.0 / 0.012;
+  CHECK(total(many) == Approx(1000.0 / v + v / 2000.0).epsilon(1e-9));
+  CHECK(many[500].t.limit == TimingLimit::motion_rate);
+  CHECK(many[500].t.peak_mm_s == Approx(v));
+  CHECK(many[500].t.duration_s == Approx(0.012));
+  CHECK(many[500].t.below_cycle);
+  // 2 mm pieces at the same feed last 20 ms: the cycle changes nothing.
+  std::vector<TimedMotion> longer(500, cp(2.0, 100.0, rate, x, 0.5));
+  const std::vector<Timed> fine = run(cell, c, longer);
+  CHECK(total(fine) == Approx(10.05).epsilon(1e-9));
+  CHECK(fine[250].t.limit == TimingLimit::none);
+  CHECK_FALSE(fine[250].t.below_cycle);
+}
+
+TEST_CASE("path_timer: the look-ahead of $ADVANCE motions bounds the speed in closed form",
+          "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.lookahead_motions = 3;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // 100 pieces of 1 mm asked at 1000 mm/s: at each junction the planner must be able to stop
+  // within the 3 mm it sees, so the path passes every junction at B = sqrt(2 a 3 mm) =
+  // 109.5 mm/s. Inside a piece the planner already sees one piece more: it speeds up from B at
+  // a to sqrt(B^2 + a L) and brakes back to B (the braking is the look-ahead's own bound). It
+  // reaches B after 3 mm from rest and leaves it 3 mm before the end: 2 B / a for the ramps,
+  // 2 (sqrt(B^2 + a L) - B) / a for each of the 94 pieces between.
+  std::vector<TimedMotion> pieces(100, cp(1.0, 1000.0, rate, x, 0.5));
+  const std::vector<Timed> out = run(cell, c, pieces);
+  const double a = 2000.0, b = std::sqrt(2.0 * a * 3.0);
+  const double piece = 2.0 * (std::sqrt(b * b + a * 1.0) - b) / a;
+  CHECK(total(out) == Approx(2.0 * b / a + 94.0 * piece).epsilon(1e-9));
+  CHECK(out[50].t.limit == TimingLimit::lookahead);
+  CHECK(out[50].t.exit_mm_s == Approx(b));
+  // $ADVANCE 0: no blending, every piece stops (1000 mm/s is never reached on 1 mm).
+  c.lookahead_motions = 0;
+  CHECK(total(run(cell, c, pieces)) == Approx(100 * 2.0 * std::sqrt(1.0 / 2000.0)).epsilon(1e-9));
+  // A long look-ahead leaves the profile alone: 1 m at 100 mm/s in 1000 pieces.
+  c.lookahead_motions = 100;
+  std::vector<TimedMotion> slow(1000, cp(1.0, 100.0, rate, x, 0.5));
+  CHECK(total(run(cell, c, slow)) == Approx(10.05).epsilon(1e-9));
 }

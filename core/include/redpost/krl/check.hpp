@@ -4,7 +4,9 @@
 // FOLD/ENDFOLD, declarations before statements, identifiers of at most 24 characters, named
 // motion targets declared in the .src or its .dat, $VEL.CP in (0, 2] m/s and the file size.
 // From the program read with read_krl_program: S and T on the first Cartesian PTP and, with a
-// cell, axis values A1..A6/E1..E6 within the limits of the joints mapped to them.
+// cell, axis values A1..A6/E1..E6 within the limits of the joints mapped to them; and, as
+// warnings, the CP motions shorter than one interpolation cycle at their $VEL.CP
+// (krl/motion_rate.hpp).
 #pragma once
 
 #include <cstddef>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "redpost/kinematics/cell.hpp"
+#include "redpost/krl/motion_rate.hpp"
 #include "redpost/krl/reader.hpp"
 
 namespace redpost {
@@ -20,6 +23,9 @@ struct KrlFinding {
   std::string file;
   int line = 0;
   std::string message;
+  // A warning: the controller runs the program, but not as written (the motion rate). It does
+  // not make `check` fail unless --strict.
+  bool warning = false;
 };
 
 inline constexpr size_t kKrlDefaultMaxBytes = 5u * 1000u * 1000u;  // 5 MB (docs/krl-diff.md)
@@ -29,9 +35,15 @@ inline constexpr double kKrlMaxVelCp = 2.0;  // m/s
 // larger value is a slip of the keyboard (1e300 is not even a KRL REAL).
 inline constexpr double kKrlMaxApoCdisMm = 1000.0;
 
+// Stretches of short motions warned about per program; the rest are counted.
+inline constexpr std::size_t kKrlMaxShortStretchWarnings = 50;
+
 struct KrlCheckOptions {
   const Cell* cell = nullptr;  // limits of A1..A6/E1..E6; nullptr: not checked
   size_t max_bytes = kKrlDefaultMaxBytes;
+  // The motion rate (0: not checked); with `motion_rates`, each program's totals, by main file.
+  KrlMotionRateOptions motion_rate;
+  std::vector<std::pair<std::string, KrlMotionRate>>* motion_rates = nullptr;
 };
 
 // Checks a .src (and the files it calls, and the .dat files beside them) or every .src/.dat of

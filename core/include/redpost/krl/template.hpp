@@ -17,6 +17,8 @@ struct KrlTimingSettings {
   double ptp_acceleration_percent = 100.0;    // BAS (#ACC_PTP, n)
   double path_acceleration_m_s2 = 2.0;        // $ACC.CP
   double orientation_velocity_deg_s = 200.0;  // $VEL.ORI1
+  double interpolation_cycle_ms = 12.0;       // the controller's IPO cycle (KR C2 and KR C4)
+  int advance = 3;  // $ADVANCE: motions the advance run prepares ahead (the skeleton's, or 3)
 };
 
 struct KrlTemplateSet {

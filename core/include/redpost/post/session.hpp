@@ -159,7 +159,7 @@ struct JointRange {
 struct FeedLimit {
   int first_line = 0, last_line = 0;
   long motions = 0;
-  int joint = -1;  // chain index
+  int joint = -1;  // chain index; -1 for the motion rate and the look-ahead (no axis)
   TimingLimit limit = TimingLimit::axis_velocity;
   double lowest_mm_per_min = 0.0;
   double asked_mm_per_min = 0.0;
@@ -206,6 +206,14 @@ struct PostSummary {
   std::vector<FeedLimit> feed_limits;  // where an axis keeps the feed 5 % or more below the ask
   long feed_limits_total = 0;          // how many there were (feed_limits keeps the first 1000)
   int untimed_tool_changes = 0;        // tool changes (HALT or a routine) the model cannot time
+  // The controller's clock (docs/timing.md, "The interpolation cycle").
+  double interpolation_cycle_s = 0.0;  // the template set's
+  long cp_motions = 0;                 // CP motions timed (LIN, CIRC, SLIN)
+  long below_cycle_motions = 0;        // of them, lasting less than one cycle at their $VEL.CP
+  long rate_limited_motions = 0;       // of them, slowed by the motion rate (one per cycle)
+  long lookahead_limited_motions = 0;  // of them, slowed by the look-ahead ($ADVANCE)
+  double shortest_motion_s = 0.0;      // the shortest CP motion at its $VEL.CP (0: none)
+  int shortest_motion_line = 0;        // its CL line
 
   // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
   long plan_windows = 0;           // windows planned

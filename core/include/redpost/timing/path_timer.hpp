@@ -13,6 +13,12 @@
 // and stops with the slowest one, each with a trapezoid at the template set's PTP share of its
 // limits.
 //
+// The controller's clock (docs/timing.md, "The interpolation cycle"): a KR C4 interpolates on
+// a fixed cycle (12 ms) and prepares each motion block in its advance run, so a CP motion lasts
+// at least one cycle: its cruise speed is at most length / cycle. And the planner sees only the
+// next $ADVANCE motions: it must be able to stop within them, which bounds every motion's exit
+// speed by the speed from which the motions it sees can still stop.
+//
 // The junction speeds come from the classic two passes (backward from the next stop, forward
 // from the last one). They are streamed: a motion is timed once no later motion can change it,
 // that is once the motions after it are long enough to stop from its speed; memory stays
@@ -23,6 +29,7 @@
 #include <deque>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/types.hpp"
@@ -36,7 +43,14 @@ struct ControllerTiming {
   double orientation_velocity_rad_s = deg_to_rad(200.0);  // $VEL.ORI1
   double ptp_velocity_fraction = 1.0;                     // BAS (#VEL_PTP, n): n / 100
   double ptp_acceleration_fraction = 1.0;                 // BAS (#ACC_PTP, n): n / 100
+  double interpolation_cycle_s = 0.012;                   // the IPO cycle; 0: not modelled
+  // Motions the path planner sees beyond the current one ($ADVANCE; for SPLINE blocks, planned
+  // whole, the block's size). 0: every motion ends at rest; negative: unlimited.
+  int lookahead_motions = 3;
 };
+
+// The most motions a look-ahead may span (a SPLINE block is at most this long in the model).
+inline constexpr int kMaxLookaheadMotions = 4096;
 
 // What kept a motion below the speed the CAM file asked for.
 enum class TimingLimit : std::uint8_t {
@@ -47,6 +61,8 @@ enum class TimingLimit : std::uint8_t {
   corner,             // a blended corner (an axis's rate or the TCP's direction changes)
   orientation,        // the orientation speed ($VEL.ORI1) on a motion that mostly turns
   stop,               // an exact stop (a PTP, a tool change, a dwell) before or after it
+  motion_rate,        // shorter than one interpolation cycle at the asked speed
+  lookahead,          // the planner's look-ahead ($ADVANCE motions) is too short to stop in
 };
 const char* to_string(TimingLimit limit);
 
@@ -85,6 +101,8 @@ struct MotionTiming {
   // The largest fraction of its velocity limit any joint reaches, and which (-1: no limits).
   double axis_fraction = 0.0;
   int axis_fraction_joint = -1;
+  // CP: the motion would last less than one interpolation cycle at its asked speed.
+  bool below_cycle = false;
 };
 
 class PathTimer {
@@ -124,8 +142,17 @@ class PathTimer {
     int accel_joint = -1;   // joint that set accel (below $ACC.CP), -1
     double junction = 0.0;  // cap of the junction at its end
     int corner_joint = -1;  // joint whose corner term set `junction` (-2: the TCP direction)
-    double exit = 0.0;      // planned exit speed
+    double rate_cap = std::numeric_limits<double>::infinity();  // length / interpolation cycle
+    double junction_corner = 0.0;  // `junction` before the look-ahead bound
+    bool lookahead_bound = false;  // the look-ahead lowered `junction`
+    double exit = 0.0;             // planned exit speed
   };
+  // What the look-ahead needs of the last motions, also of those already timed.
+  struct Recent {
+    double length_mm = 0.0, accel = 0.0;
+    bool ptp = false;
+  };
+  void bound_by_lookahead();
   void plan(bool final_flush);
   void emit_front(std::size_t count);
 
@@ -133,7 +160,10 @@ class PathTimer {
   ControllerTiming controller_;
   Callback done_;
   std::deque<Entry> buffer_;
-  double entry_speed_ = 0.0;  // speed at the start of buffer_.front()
+  std::vector<Recent> recent_;  // ring of the last lookahead + 1 motions
+  long pushed_ = 0;             // motions pushed so far
+  long last_stop_ = -1;         // the last motion that is a PTP or ends at rest
+  double entry_speed_ = 0.0;    // speed at the start of buffer_.front()
   double clock_s_ = 0.0;
   std::size_t since_plan_ = 0;
 };

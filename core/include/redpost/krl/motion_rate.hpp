@@ -1,0 +1,50 @@
+// The motion rate of a written program (`redpost check`, docs/timing.md "The interpolation
+// cycle"): which CP motions last less than one interpolation cycle at the $VEL.CP in force.
+//
+// A KR C4 interpolates on a fixed cycle (12 ms) and prepares at most one motion block per cycle:
+// a LIN, CIRC or SLIN that its $VEL.CP would run in less than a cycle cannot run at that speed.
+// Recomputed from the program's own text: the TCP path between the printed positions (a CIRC's
+// arc through its auxiliary point), the turn at $VEL.ORI1, at the $VEL.CP in force.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "redpost/krl/reader.hpp"
+
+namespace redpost {
+
+// "Less than a cycle": below 1 - 1e-4 of it, so that a motion of exactly one cycle (2 mm at
+// 10 m/min) is not decided by the printed $VEL.CP's last decimal.
+inline constexpr double kKrlBelowCycle = 1.0 - 1e-4;
+
+struct KrlMotionRateOptions {
+  double interpolation_cycle_s = 0.012;       // KR C2 and KR C4
+  double orientation_velocity_deg_s = 200.0;  // $VEL.ORI1 (BAS (#INITMOV,0)'s, docs/timing.md)
+};
+
+// Consecutive CP motions of one file that each last less than a cycle.
+struct KrlShortStretch {
+  std::string file;
+  int first_line = 0, last_line = 0;
+  long motions = 0;
+  double shortest_s = 0.0;
+};
+
+struct KrlMotionRate {
+  long cp_motions = 0;      // CP motions measured (a Cartesian position before and after)
+  long unmeasured = 0;      // CP motions after an axis-only target (their start not known)
+  long below_cycle = 0;     // of the measured, lasting less than one cycle
+  double shortest_s = 0.0;  // the shortest measured (0: none)
+  std::string shortest_file;
+  int shortest_line = 0;
+  std::vector<KrlShortStretch> stretches;  // in program order
+};
+
+KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options);
+
+// The length of the arc from a through b to c (the circle through the three points; the chord
+// when they are collinear), mm.
+double krl_arc_length(const double a[3], const double b[3], const double c[3]);
+
+}  // namespace redpost
