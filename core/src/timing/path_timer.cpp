@@ -177,7 +177,6 @@ void PathTimer::push(const TimedMotion& motion) {
       if (controller_.lookahead_motions == 0)
         v = 0.0;
       prev.junction = v;
-      prev.junction_corner = v;
       prev.corner_joint = which;
     }
   }

@@ -143,9 +143,8 @@ class PathTimer {
     double junction = 0.0;  // cap of the junction at its end
     int corner_joint = -1;  // joint whose corner term set `junction` (-2: the TCP direction)
     double rate_cap = std::numeric_limits<double>::infinity();  // length / interpolation cycle
-    double junction_corner = 0.0;  // `junction` before the look-ahead bound
-    bool lookahead_bound = false;  // the look-ahead lowered `junction`
-    double exit = 0.0;             // planned exit speed
+    bool lookahead_bound = false;                               // the look-ahead lowered `junction`
+    double exit = 0.0;                                          // planned exit speed
   };
   // What the look-ahead needs of the last motions, also of those already timed.
   struct Recent {
