@@ -13,6 +13,7 @@
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/kinematics/circle.hpp"
 
 namespace redpost {
 
@@ -23,37 +24,6 @@ Eigen::Vector3d printed(const Eigen::Vector3d& p, int decimals) {
   const double f = std::pow(10.0, decimals);
   return Eigen::Vector3d(std::round(p.x() * f) / f, std::round(p.y() * f) / f,
                          std::round(p.z() * f) / f);
-}
-
-// The circle through three points: centre, unit normal (by the order a -> b -> c), radius and
-// the angle from a to c through b. False if they are (nearly) on one line.
-struct Circle {
-  Eigen::Vector3d centre, normal, u, v;
-  double radius = 0.0, sweep = 0.0;
-  Eigen::Vector3d at(double s) const {
-    const double phi = s * sweep;
-    return centre + radius * (std::cos(phi) * u + std::sin(phi) * v);
-  }
-};
-
-bool circle_through(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                    Circle& out) {
-  const Eigen::Vector3d ab = b - a, ac = c - a;
-  const Eigen::Vector3d n = ab.cross(ac);
-  const double n2 = n.squaredNorm();
-  if (!(n2 > 1e-12))
-    return false;
-  out.centre = a + (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) / (2.0 * n2);
-  out.normal = n / std::sqrt(n2);
-  out.radius = (a - out.centre).norm();
-  out.u = (a - out.centre) / out.radius;
-  out.v = out.normal.cross(out.u);
-  const Eigen::Vector3d rc = c - out.centre;
-  double phi = std::atan2(rc.dot(out.v), rc.dot(out.u));
-  if (phi <= 0.0)
-    phi += 2.0 * kPi;  // from a through b (positive sense about n) to c
-  out.sweep = phi;
-  return true;
 }
 
 }  // namespace

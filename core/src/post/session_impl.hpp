@@ -125,7 +125,6 @@ struct PostSession::Impl {
   int velocity_decimals = 6;
   double orientation_velocity_rad_s = 0.0;
   double ptp_velocity_fraction = 1.0, ptp_acceleration_fraction = 1.0;
-  double interpolation_cycle_s = 0.0;
   // The postures tracked along the last track_line(), when it took several steps: written one
   // by one where the controller's straight line between its ends cannot be proven.
   std::vector<JointVector> line_steps;

@@ -52,7 +52,6 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   c.lookahead_motions = templates.spline
                             ? std::max(templates.max_spline_points, templates.timing.advance)
                             : templates.timing.advance;
-  interpolation_cycle_s = c.interpolation_cycle_s;
   orientation_velocity_rad_s = c.orientation_velocity_rad_s;
   ptp_velocity_fraction = c.ptp_velocity_fraction;
   ptp_acceleration_fraction = c.ptp_acceleration_fraction;

@@ -1,5 +1,5 @@
-// The motion rate of a written program (redpost/krl/motion_rate.hpp): arc lengths in closed
-// form, and which motions of a program last less than one interpolation cycle, counted by hand.
+// The motion rate of a written program (redpost/krl/motion_rate.hpp): which motions of a
+// program last less than one interpolation cycle, counted by hand.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,18 +11,6 @@
 #include "redpost/krl/reader.hpp"
 
 using namespace redpost;
-
-TEST_CASE("motion rate: the arc through three points in closed form") {
-  const double r = 10.0, s = r / std::sqrt(2.0);
-  const double a[3] = {r, 0, 5}, quarter_mid[3] = {s, s, 5}, top[3] = {0, r, 5};
-  CHECK(krl_arc_length(a, quarter_mid, top) == Approx(0.5 * M_PI * r).epsilon(1e-12));
-  // Through the top to the bottom: three quarters of the circle, the long way round.
-  const double bottom[3] = {0, -r, 5};
-  CHECK(krl_arc_length(a, top, bottom) == Approx(1.5 * M_PI * r).epsilon(1e-12));
-  // Collinear points: the chord.
-  const double m[3] = {5, 0, 5}, e[3] = {-3, 0, 5};
-  CHECK(krl_arc_length(a, m, e) == Approx(13.0));
-}
 
 TEST_CASE("motion rate: the motions shorter than a 12 ms cycle at the $VEL.CP in force") {
   namespace fs = std::filesystem;

@@ -43,8 +43,4 @@ struct KrlMotionRate {
 
 KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options);
 
-// The length of the arc from a through b to c (the circle through the three points; the chord
-// when they are collinear), mm.
-double krl_arc_length(const double a[3], const double b[3], const double c[3]);
-
 }  // namespace redpost
