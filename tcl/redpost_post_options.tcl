@@ -96,7 +96,8 @@ namespace eval ::redpost_post {
                       -msys [setting msys ignore] -plan [setting plan global] \
                       -preset [setting preset smooth] \
                       -keyframe-spacing [setting keyframe_spacing 20] -lock [setting lock] \
-                      -deflection-tol $tol -pipeline [setting pipeline 1]]
+                      -deflection-tol $tol -pipeline [setting pipeline 1] \
+                      -fit-tol [setting fit_tol 0.01] -fit-ang-tol [setting fit_ang_tol 0.1]]
         # --cutting alone asks for the prediction, --compensate implies it (as in convert).
         set cutting [setting cutting]
         if {[setting compensate 0]} {

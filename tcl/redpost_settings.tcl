@@ -9,7 +9,7 @@ namespace eval ::redpost_settings {
     variable dir [file dirname [file normalize [info script]]]
 
     # Where the redpost Tcl package is: the directory holding pkgIndex.tcl (build/plugin, or
-    # <prefix>/lib/redpost0.7.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
+    # <prefix>/lib/redpost0.8.0, or <prefix>/lib). "" : already on auto_path / TCLLIBPATH.
     variable library_dir ""
 
     # The workcell definition (XML, docs/cell-format.md).
@@ -78,6 +78,12 @@ namespace eval ::redpost_settings {
     variable compensate 0
     variable cutting ""
     variable deflection_tol 0.05
+
+    # The point reduction (docs/timing.md, "Point reduction"): consecutive cutting points merged
+    # into one LIN within fit_tol (mm) of every point dropped and fit_ang_tol (deg) of its tool
+    # axis; fit_tol 0 keeps every point. (--fit-tol, --fit-ang-tol)
+    variable fit_tol 0.01
+    variable fit_ang_tol 0.1
 
     # Name used in messages and in the program's header. "" : NX's part (mom_part_name).
     variable source ""

@@ -51,6 +51,8 @@ struct ConvertOptions {
   int split = 0;
   int cl_line_every = 50;
   double chordal_tolerance_mm = 0.01;
+  double fit_tolerance_mm = 0.01;
+  double fit_angle_tolerance_deg = 0.1;
   std::string plan = "global";
   std::string preset = "smooth";
   double keyframe_spacing_mm = 20.0;
@@ -206,6 +208,12 @@ void print_timing(const rp_session* session) {
         t.shortest_motion_s * 1000.0, t.shortest_motion_line, t.rate_limited_motions,
         t.lookahead_limited_motions);
   }
+  if (t.reduced_moves < t.reducible_points) {
+    fmt::print("point reduction: {} cutting point(s) tracked as {} move(s) ({:.1f} x fewer)\n",
+               t.reducible_points, t.reduced_moves,
+               static_cast<double>(t.reducible_points) /
+                   static_cast<double>(std::max(t.reduced_moves, 1L)));
+  }
   if (t.plan_windows > 0) {
     fmt::print("whole-path plan: {} window(s), {} tracked pose by pose, {} IK solutions\n",
                t.plan_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
@@ -360,6 +368,8 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
   o.motions_per_file = opt.split;
   o.cl_line_every = opt.cl_line_every;
   o.chordal_tolerance_mm = opt.chordal_tolerance_mm;
+  o.fit_tolerance_mm = opt.fit_tolerance_mm;
+  o.fit_angle_tolerance_deg = opt.fit_angle_tolerance_deg;
   o.plan = opt.plan == "local" ? RP_PLAN_LOCAL : RP_PLAN_GLOBAL;
   o.plan_preset = opt.preset == "stiff"  ? RP_PLAN_STIFF
                   : opt.preset == "fast" ? RP_PLAN_FAST
@@ -494,6 +504,13 @@ Runner add_convert_command(CLI::App& app) {
       ->check(non_negative_number());
   c->add_option("--chordal-tol", opt->chordal_tolerance_mm,
                 "Chordal tolerance for arcs and NURBS in mm (default 0.01)");
+  c->add_option("--fit-tol", opt->fit_tolerance_mm,
+                "Point reduction (docs/timing.md): consecutive cutting points merged into one LIN "
+                "within this distance of each dropped point, mm (default 0.01; 0: every point "
+                "kept)");
+  c->add_option("--fit-ang-tol", opt->fit_angle_tolerance_deg,
+                "Point reduction: the tool axis within this angle of each dropped point's, deg "
+                "(default 0.1)");
   c->add_option("--plan", opt->plan,
                 "Redundancy along the path (docs/redundancy.md): global plans table, track and "
                 "spin over the path ahead first (default); local is Algorithm 1 pose by pose")

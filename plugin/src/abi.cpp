@@ -176,6 +176,8 @@ RP_API void rp_options_init(rp_options* options) {
   options->plan_preset = RP_PLAN_SMOOTH;
   options->keyframe_spacing_mm = 20.0;
   options->deflection_tolerance_mm = 0.05;
+  options->fit_tolerance_mm = 0.01;
+  options->fit_angle_tolerance_deg = 0.1;
   for (double& v : options->lock_value)
     v = std::numeric_limits<double>::quiet_NaN();
 }
@@ -205,6 +207,11 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
         !why.empty()) {
       throw AbiError{RP_ERR_BAD_INPUT, why};
     }
+    redpost::PointReductionOptions reduction;
+    reduction.tolerance_mm = o.fit_tolerance_mm;
+    reduction.axis_tolerance_deg = o.fit_angle_tolerance_deg;
+    if (const std::string why = redpost::point_reduction_problem(reduction); !why.empty())
+      throw AbiError{RP_ERR_BAD_INPUT, why};
 
     // An output that names an input (or another output) would destroy it: refused before
     // anything is read or written.
@@ -243,6 +250,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     if (o.joints_csv_path)
       post.joints_csv_path = o.joints_csv_path;
     post.chordal_tolerance_mm = o.chordal_tolerance_mm;
+    post.reduction = reduction;
     post.program.max_file_bytes = o.max_file_bytes;
     post.rapid_velocity_m_per_s = o.rapid_velocity_m_per_s;
     if (o.has_clearance) {
@@ -486,6 +494,8 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.lookahead_limited_motions = s.lookahead_limited_motions;
     out.shortest_motion_s = s.shortest_motion_s;
     out.shortest_motion_line = s.shortest_motion_line;
+    out.reducible_points = s.reducible_points;
+    out.reduced_moves = s.reduced_moves;
     copy_sized(timing, out);
   });
 }

@@ -41,11 +41,14 @@ enum OpenOption {
   o_deflection_tol,
   o_msys,
   o_report,
-  o_pipeline
+  o_pipeline,
+  o_fit_tol,
+  o_fit_ang_tol
 };
 
-// The deflection options of ::redpost::open (docs/deflection.md), as `redpost convert`'s
-// --predict-deflection, --compensate, --cutting and --deflection-tol.
+// The options of ::redpost::open added with the deflection model and after it, as `redpost
+// convert`'s --predict-deflection, --compensate, --cutting, --deflection-tol, --msys, --report,
+// --fit-tol and --fit-ang-tol (and the pipeline, which convert does not need).
 int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
   switch (index) {
     case o_deflection: {
@@ -76,6 +79,10 @@ int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt
       break;
     case o_pipeline:
       return Tcl_GetBooleanFromObj(interp, v, &opt.pipeline);
+    case o_fit_tol:
+      return get_double(interp, v, "-fit-tol", &opt.fit_tolerance_mm);
+    case o_fit_ang_tol:
+      return get_double(interp, v, "-fit-ang-tol", &opt.fit_angle_tolerance_deg);
     default:
       break;
   }
@@ -121,7 +128,8 @@ const char* const kOpenUsage =
     "?-cl-line-every N? ?-chordal-tol MM? ?-tools FILE? ?-clearance Z? ?-rapid-vel M/S? "
     "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
     "?-lock {E1=500 E2 ...}? ?-deflection off|predict|compensate? ?-cutting FILE? "
-    "?-deflection-tol MM? ?-msys ignore|apply? ?-report FILE.html? ?-pipeline 0|1?";
+    "?-deflection-tol MM? ?-msys ignore|apply? ?-report FILE.html? ?-pipeline 0|1? "
+    "?-fit-tol MM? ?-fit-ang-tol DEG?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
 const char* const kOpenOptions[] = {
@@ -131,7 +139,8 @@ const char* const kOpenOptions[] = {
     "-chordal-tol", "-tools",      "-clearance", "-rapid-vel",
     "-max-bytes",   "-plan",       "-preset",    "-keyframe-spacing",
     "-lock",        "-deflection", "-cutting",   "-deflection-tol",
-    "-msys",        "-report",     "-pipeline",  nullptr};
+    "-msys",        "-report",     "-pipeline",  "-fit-tol",
+    "-fit-ang-tol", nullptr};
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
 // duration of rp_open).
 int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {

@@ -128,6 +128,8 @@ rp_session* open_placed(const std::string& cell, const std::string& dir, const c
   o.cell_path = cell.c_str();
   o.output_dir = dir.c_str();
   o.program_name = name;
+  // The test counts one motion per CL point: point reduction (rp_options 0.8) off.
+  o.fit_tolerance_mm = 0.0;
   o.has_placement = 1;
   for (int i = 0; i < 6; ++i)
     o.placement[i] = placement[static_cast<std::size_t>(i)];

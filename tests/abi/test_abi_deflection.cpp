@@ -35,6 +35,8 @@ Run run(int mode, const std::string& dir) {
   o.cell_path = kCell.c_str();
   o.output_dir = dir.c_str();
   o.program_name = "DEFL";
+  // The test counts one motion per CL point: point reduction (rp_options 0.8) off.
+  o.fit_tolerance_mm = 0.0;
   o.deflection = mode;
   rp_session* s = nullptr;
   REQUIRE(rp_open(&o, &s) == RP_OK);

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The controller's clock on real and generated toolpaths (docs/timing.md, "The interpolation
-# cycle"; issue 30): every file converted with each feed set to 10 000 mm/min, and per file the
-# motions written, how many last less than one 12 ms cycle at their $VEL.CP (convert's count and
-# `redpost check`'s, from the written text), and the cutting time the cycle-aware model gives
-# against the CL feeds' time.
+# cycle" and "Point reduction"; issue 30): every file converted with each feed set to
+# 10 000 mm/min, without the point reduction (--fit-tol 0) and with it (the default), and per
+# file the motions written, how many last less than one 12 ms cycle at their $VEL.CP (convert's
+# count; `redpost check` counts the same from the written text), the cutting time the
+# cycle-aware model gives against the CL feeds' time, and how far the reduced program's path
+# strays from the CL points (tests/cli/fit_check.py, from the two written programs).
 #
 # Usage: tests/bench/motion_rate_table.sh [BUILD_DIR]   (prints a Markdown table)
 set -euo pipefail
@@ -35,26 +37,41 @@ inputs=("$work/raster_20k.apt" "$top"/examples/cl/*)
 evaldata=$top/../shared/evaldata
 [[ -d $evaldata ]] && inputs+=("$evaldata"/apt/*.apt "$evaldata"/clsf/*)
 
+# convert_at FILE NAME OUT FIT: converts; prints "motions|below|ratio" or "refused: why".
+convert_at() {
+  mkdir -p "$3"
+  # shellcheck disable=SC2046 # the options are words
+  if ! "$redpost" convert "$1" --cell "$cell" -o "$3" --name P --fit-tol "$4" $(options_of "$2") \
+    >"$work/log" 2>&1; then
+    echo "refused: $(grep -m1 '^redpost:' "$work/log" | sed "s#$work/##" | cut -c10-100)..."
+    return
+  fi
+  local motions below ratio
+  motions=$(sed -n 's/^poses [0-9]* (motions written \([0-9]*\)).*/\1/p' "$work/log")
+  below=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of \([0-9]*\) .*(\([0-9]*\) %.*/\1 (\3 %)/p' "$work/log")
+  ratio=$(sed -n 's/.*(cutting .*, \([-+0-9.]*\) % on the CL feeds.*/\1/p' "$work/log")
+  ratio=$(awk -v p="${ratio:-0}" 'BEGIN { printf "%.2fx", 1 + p / 100 }')
+  echo "$motions|${below:-0}|$ratio"
+}
+
 echo
-echo "| file | motions | below 12 ms (convert) | below 12 ms (check) | cutting time / CL feeds' time |"
+echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) |"
 echo "|---|---|---|---|---|"
 for f in "${inputs[@]}"; do
   name=$(basename "$f")
   fast=$work/fast_$name
   sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
     "$f" >"$fast"
-  out=$work/out_$name
-  mkdir -p "$out"
-  # shellcheck disable=SC2046 # the options are words
-  if ! "$redpost" convert "$fast" --cell "$cell" -o "$out" --name P $(options_of "$name") \
-    >"$work/log" 2>&1; then
-    echo "| $name | refused: $(grep -m1 '^redpost:' "$work/log" | sed "s#$work/##" | cut -c10-120)... | | | |"
+  before=$(convert_at "$fast" "$name" "$work/before_$name" 0)
+  label="$name $(options_of "$name" | sed "s#$work/##")"
+  if [[ $before == refused* ]]; then
+    echo "| $label | $before | | | |"
     continue
   fi
-  motions=$(sed -n 's/^poses [0-9]* (motions written \([0-9]*\)).*/\1/p' "$work/log")
-  below=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of \([0-9]*\) .*(\([0-9]*\) %.*/\1 of \2 (\3 %)/p' "$work/log")
-  ratio=$(sed -n 's/.*(cutting .*, \([-+0-9.]*\) % on the CL feeds.*/\1/p' "$work/log")
-  ratio=$(awk -v p="${ratio:-0}" 'BEGIN { printf "%.2fx", 1 + p / 100 }')
-  checked=$("$redpost" check "$out/P.src" | sed -n 's/.*: motion rate: \([0-9]*\) of \([0-9]*\) .*/\1 of \2/p' | head -1)
-  echo "| $name $(options_of "$name" | sed "s#$work/##") | $motions | $below | ${checked:-0} | $ratio |"
+  after=$(convert_at "$fast" "$name" "$work/after_$name" 0.01)
+  IFS='|' read -r m0 b0 r0 <<<"$before"
+  IFS='|' read -r m1 b1 r1 <<<"$after"
+  fit=$( (python3 "$top/tests/cli/fit_check.py" "$work/after_$name/P.src" "$work/before_$name/P.src" || true) |
+    sed -n 's/.*largest deviation \([0-9.]*\) mm and \([0-9.]*\) deg.*; \([0-9]*\) outside.*/\1, \2 (\3 outside)/p')
+  echo "| $label | $m0 → $m1 | $b0 → $b1 | $r0 → $r1 | ${fit:-fit check failed} |"
 done

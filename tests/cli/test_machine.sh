@@ -27,7 +27,8 @@ passed
 begin "100 000 poses: every file within 4 MiB, and redpost check passes them"
 $py "$SRC/tests/bench/make_raster_apt.py" 100000 "$TMP/raster.apt"
 mkdir -p "$TMP/raster"
-run convert "$TMP/raster.apt" --cell "$cell" -o "$TMP/raster" --name RASTER -q
+# One motion per CL point (--fit-tol 0, no point reduction): the sizes of the largest program.
+run convert "$TMP/raster.apt" --cell "$cell" -o "$TMP/raster" --name RASTER --fit-tol 0 -q
 expect_rc 0
 parts=0
 for f in "$TMP/raster"/*.src "$TMP/raster"/*.dat; do
@@ -45,7 +46,7 @@ passed
 begin "a program above the old 16 MiB limit is read by check (too large: a finding) and diff"
 mkdir -p "$TMP/big" "$TMP/big2"
 $py "$SRC/tests/bench/make_raster_apt.py" 170000 "$TMP/big.apt"
-run convert "$TMP/big.apt" --cell "$cell" -o "$TMP/big" --name BIG --max-bytes 40000000 -q
+run convert "$TMP/big.apt" --cell "$cell" -o "$TMP/big" --name BIG --max-bytes 40000000 --fit-tol 0 -q
 expect_rc 0
 size=$(stat -c %s "$TMP/big/BIG.src")
 [[ "$size" -gt 16777216 ]] || fail "BIG.src has only $size bytes"

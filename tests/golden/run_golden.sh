@@ -7,12 +7,17 @@
 set -euo pipefail
 redpost=$1 src=$2 work=$3 update=${4:-}
 cell=$src/definitions/cells/andres2011_kr15_track_table.xml
+# The first five run with point reduction off (--fit-tol 0): one motion per CL point, the
+# program of redpost 0.7 byte for byte (docs/timing.md, "Point reduction"); the *_fit cases
+# are the default, reduced program.
 cases=(
-  "pocket_arcs krc4_lin pocket_arcs.apt"
-  "pocket_arcs_spline krc4_spline pocket_arcs.apt"
-  "pocket_arcs_krc2 krc2_lin pocket_arcs.apt --clearance 100"
-  "surface_5axis krc4_lin surface_5axis.cls"
-  "long_pass krc4_lin long_pass.apt --split 150"
+  "pocket_arcs krc4_lin pocket_arcs.apt --fit-tol 0"
+  "pocket_arcs_spline krc4_spline pocket_arcs.apt --fit-tol 0"
+  "pocket_arcs_krc2 krc2_lin pocket_arcs.apt --clearance 100 --fit-tol 0"
+  "surface_5axis krc4_lin surface_5axis.cls --fit-tol 0"
+  "long_pass krc4_lin long_pass.apt --split 150 --fit-tol 0"
+  "surface_5axis_fit krc4_lin surface_5axis.cls"
+  "long_pass_fit krc4_spline long_pass.apt"
 )
 rm -rf "$work"
 failed=0

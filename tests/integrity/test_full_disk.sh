@@ -19,6 +19,7 @@ CELL=$SRC/definitions/cells/andres2011_kr15_track_table.xml
 rm -rf "$SCRATCH"
 mkdir -p "$SCRATCH"
 # 20 000 poses: about 2 MB of KRL, twice what the disk takes.
+# The rasters are converted with one motion per CL point (--fit-tol 0), for their size.
 python3 "$SRC/tests/bench/make_raster_apt.py" 20000 "$SCRATCH/raster.apt"
 python3 "$SRC/tests/bench/make_raster_apt.py" 300 "$SCRATCH/small.apt"
 filler=""
@@ -48,13 +49,13 @@ run_all() {
   local rc
   rm -rf "${dir:?}"/* "${dir:?}"/.[!.]* 2>/dev/null || true
   rc=0
-  "$@" "$BIN" convert "$SCRATCH/raster.apt" --cell "$CELL" -o "$dir" -q 2>"$SCRATCH/err" || rc=$?
+  "$@" "$BIN" convert "$SCRATCH/raster.apt" --fit-tol 0 --cell "$CELL" -o "$dir" -q 2>"$SCRATCH/err" || rc=$?
   expect_clean "$label: convert, the program" "$dir" "$fragment" "$rc"
 
   # The program goes elsewhere; the joints log (about 2 MB) fills the disk.
   rm -rf "${dir:?}"/* "${dir:?}"/.[!.]* 2>/dev/null || true
   rc=0
-  "$@" "$BIN" convert "$SCRATCH/raster.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
+  "$@" "$BIN" convert "$SCRATCH/raster.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
     --joints-csv "$dir/joints.csv" 2>"$SCRATCH/err" || rc=$?
   rm -rf "$SCRATCH/elsewhere"/*
   expect_clean "$label: convert, --joints-csv" "$dir" "$fragment" "$rc"
@@ -65,7 +66,7 @@ run_all() {
   rm -rf "${dir:?}"/* "${dir:?}"/.[!.]* 2>/dev/null || true
   head -c "$filler" /dev/zero >"$dir/.filler" 2>/dev/null || true
   rc=0
-  "$@" "$BIN" convert "$SCRATCH/small.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
+  "$@" "$BIN" convert "$SCRATCH/small.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
     --report "$dir/report.html" 2>"$SCRATCH/err" || rc=$?
   rm -rf "$SCRATCH/elsewhere"/* "$dir/.filler"
   expect_clean "$label: convert, --report" "$dir" "$fragment" "$rc"
@@ -104,7 +105,7 @@ mkdir -p "$LIM"
 run_all "ulimit -f 512 KiB" "$LIM" "File too large" limited
 rm -rf "${LIM:?}"/*
 rc=0
-limited64 "$BIN" convert "$SCRATCH/small.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
+limited64 "$BIN" convert "$SCRATCH/small.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
   --report "$LIM/report.html" 2>"$SCRATCH/err" || rc=$?
 rm -rf "$SCRATCH/elsewhere"/*
 expect_clean "ulimit -f 64 KiB: convert, --report" "$LIM" "File too large" "$rc"
@@ -112,10 +113,10 @@ expect_clean "ulimit -f 64 KiB: convert, --report" "$LIM" "File too large" "$rc"
 # The report is written before the program is renamed into place: a report that does not fit
 # stops the run with an older program of the same name still whole, not replaced.
 rm -rf "${LIM:?}"/* "$SCRATCH/elsewhere"/*
-"$BIN" convert "$SCRATCH/raster.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" --name small -q
+"$BIN" convert "$SCRATCH/raster.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" --name small -q
 old=$(cd "$SCRATCH/elsewhere" && sha256sum -- *)
 rc=0
-limited64 "$BIN" convert "$SCRATCH/small.apt" --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
+limited64 "$BIN" convert "$SCRATCH/small.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" -q \
   --report "$LIM/report.html" 2>"$SCRATCH/err" || rc=$?
 name="ulimit -f 64 KiB: --report over an old program"
 checks=$((checks + 1))

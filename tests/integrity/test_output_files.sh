@@ -24,6 +24,8 @@ APT=$SRC/examples/cl/pocket_arcs.apt
 rm -rf "$SCRATCH"
 mkdir -p "$SCRATCH"
 # Long enough (about 2 s) that a second run and a signal land while it writes.
+# The rasters are converted with one motion per CL point (--fit-tol 0): a long run, a program
+# of many parts; point reduction would make both small.
 python3 "$SRC/tests/bench/make_raster_apt.py" 200000 "$SCRATCH/big.apt"
 python3 "$SRC/tests/bench/make_raster_apt.py" 3000 "$SCRATCH/mid.apt"
 checks=0
@@ -62,10 +64,10 @@ wait_for() {
 # --- a second writer of the same program -----------------------------------------------------
 REF=$SCRATCH/ref
 mkdir -p "$REF"
-"$BIN" convert "$SCRATCH/big.apt" --cell "$CELL" -o "$REF" --name BIG -q
+"$BIN" convert "$SCRATCH/big.apt" --fit-tol 0 --cell "$CELL" -o "$REF" --name BIG -q
 OUT=$SCRATCH/two_writers
 mkdir -p "$OUT"
-"$BIN" convert "$SCRATCH/big.apt" --cell "$CELL" -o "$OUT" --name BIG -q 2>"$SCRATCH/err1" &
+"$BIN" convert "$SCRATCH/big.apt" --fit-tol 0 --cell "$CELL" -o "$OUT" --name BIG -q 2>"$SCRATCH/err1" &
 first=$!
 wait_for "$OUT/.BIG.lock~" || fail "two writers: the first run never took its lock"
 run "two writers: the second is refused" 2 \
@@ -147,14 +149,14 @@ fi
 # --- a swap that cannot complete keeps the old split program ---------------------------------
 OUT=$SCRATCH/old_kept
 mkdir -p "$OUT"
-"$BIN" convert "$SCRATCH/mid.apt" --cell "$CELL" -o "$OUT" --name MID --split 1000 -q
+"$BIN" convert "$SCRATCH/mid.apt" --fit-tol 0 --cell "$CELL" -o "$OUT" --name MID --split 1000 -q
 old=$(sums "$OUT")
 # A folder where the new run's second part goes.
 rm "$OUT/MID_P002.src"
 mkdir "$OUT/MID_P002.src"
 old=$(sums "$OUT")
 run "a folder under a part's name" 2 "is a folder" \
-  "$BIN" convert "$SRC/examples/cl/long_pass.apt" --cell "$CELL" -o "$OUT" --name MID --split 20 -q
+  "$BIN" convert "$SRC/examples/cl/long_pass.apt" --cell "$CELL" -o "$OUT" --name MID --fit-tol 0 --split 20 -q
 checks=$((checks + 1))
 if [[ $(sums "$OUT") != "$old" || ! -d $OUT/MID_P002.src || -n $(leftovers "$OUT") ]]; then
   fail "a folder under a part's name: the old program changed: $(ls -A "$OUT" | tr '\n' ' ')"
@@ -164,11 +166,11 @@ fi
 # An immutable old part (chattr +i, where the file system has the flag): the swap cannot move
 # it aside, and puts back what it had moved.
 rmdir "$OUT/MID_P002.src"
-"$BIN" convert "$SCRATCH/mid.apt" --cell "$CELL" -o "$OUT" --name MID --split 1000 -q
+"$BIN" convert "$SCRATCH/mid.apt" --fit-tol 0 --cell "$CELL" -o "$OUT" --name MID --split 1000 -q
 old=$(sums "$OUT")
 if chattr +i "$OUT/MID_P002.src" 2>/dev/null; then
   rc=0
-  "$BIN" convert "$SRC/examples/cl/long_pass.apt" --cell "$CELL" -o "$OUT" --name MID \
+  "$BIN" convert "$SRC/examples/cl/long_pass.apt" --cell "$CELL" -o "$OUT" --name MID --fit-tol 0 \
     --split 20 -q 2>"$SCRATCH/err" || rc=$?
   chattr -i "$OUT/MID_P002.src"
   checks=$((checks + 1))
@@ -187,7 +189,7 @@ fi
 for sig in TERM INT HUP; do
   OUT=$SCRATCH/signal_$sig
   mkdir -p "$OUT"
-  "$BIN" convert "$SCRATCH/big.apt" --cell "$CELL" -o "$OUT" --joints-csv "$OUT/j.csv" \
+  "$BIN" convert "$SCRATCH/big.apt" --fit-tol 0 --cell "$CELL" -o "$OUT" --joints-csv "$OUT/j.csv" \
     --report "$OUT/r.html" -q 2>/dev/null &
   pid=$!
   wait_for "$OUT/.big.lock~" || fail "SIG$sig: the run never started"

@@ -86,25 +86,25 @@ set cl $src/examples/cl
 # --- the package ----------------------------------------------------------------------------------
 
 set auto_path [linsert $auto_path 0 $libdir]
-check package.require {package require redpost} 0.7.0
-check package.version {::redpost::version} 0.7.0
+check package.require {package require redpost} 0.8.0
+check package.version {::redpost::version} 0.8.0
 check package.namespace {
     expr {[llength [info commands ::redpost::*]] >= 22}
 }
 
-# The package from an install layout: <libdir>/redpost0.7.0/pkgIndex.tcl, library one level up.
+# The package from an install layout: <libdir>/redpost0.8.0/pkgIndex.tcl, library one level up.
 check package.install_layout {
     set inst $::work/install/lib
-    file mkdir $inst/redpost0.7.0
-    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.7.0/
+    file mkdir $inst/redpost0.8.0
+    file copy [file join $::libdir pkgIndex.tcl] $inst/redpost0.8.0/
     # The real file under the SONAME (in the build tree libredpost.so.0 is a symlink).
-    file copy [file join $::libdir libredpost.so.0.7.0] $inst/libredpost.so.0
+    file copy [file join $::libdir libredpost.so.0.8.0] $inst/libredpost.so.0
     set child [interp create]
     $child eval [list set auto_path [linsert [$child eval set auto_path] 0 $inst]]
     set v [$child eval {package require redpost; ::redpost::version}]
     set loaded [$child eval {info loaded}]
     interp delete $child
-    expr {$v eq "0.7.0" && [string match *install/lib/libredpost.so.0* $loaded]}
+    expr {$v eq "0.8.0" && [string match *install/lib/libredpost.so.0* $loaded]}
 }
 
 # --- usage errors ---------------------------------------------------------------------------------
@@ -345,7 +345,7 @@ check interp.safe {
     set r [list [$safe eval ::redpost::version] [llength [$safe eval {info commands ::redpost::*}]]]
     interp delete $safe
     set r
-} {0.7.0 1}
+} {0.8.0 1}
 
 # --- the handlers, as NX calls them -------------------------------------------------------------------
 
@@ -534,11 +534,14 @@ interp delete $nx
 
 set tclsh [info nameofexecutable]
 set cases {
-    pocket_arcs krc4_lin pocket_arcs.apt {}
-    pocket_arcs_spline krc4_spline pocket_arcs.apt {}
-    pocket_arcs_krc2 krc2_lin pocket_arcs.apt {--clearance 100}
-    surface_5axis krc4_lin surface_5axis.cls {}
-    long_pass krc4_lin long_pass.apt {--split 150}
+    pocket_arcs krc4_lin pocket_arcs.apt {--fit-tol 0}
+    pocket_arcs_spline krc4_spline pocket_arcs.apt {--fit-tol 0}
+    pocket_arcs_krc2 krc2_lin pocket_arcs.apt {--clearance 100 --fit-tol 0}
+    surface_5axis krc4_lin surface_5axis.cls {--fit-tol 0}
+    long_pass krc4_lin long_pass.apt {--split 150 --fit-tol 0}
+    surface_5axis_fit krc4_lin surface_5axis.cls {}
+    long_pass_fit krc4_spline long_pass.apt {}
+    surface_fit_opts krc4_lin surface_5axis.cls {--fit-tol 0.05 --fit-ang-tol 0.5 --joints-csv JOINTS}
     long_pass_opts krc4_lin long_pass.apt {--apo 1 --cl-line-every 7 --base BASE_DATA[3] --tool TOOL_DATA[2]}
     surface_csv krc4_lin surface_5axis.cls {--joints-csv JOINTS}
 }
@@ -561,7 +564,8 @@ foreach {name set input extra} $cases {
     check replay.$name.identical {same_dirs $a $b} same
 }
 # The committed golden files too (they are what `redpost convert` must give).
-foreach name {pocket_arcs pocket_arcs_spline pocket_arcs_krc2 surface_5axis long_pass} {
+foreach name {pocket_arcs pocket_arcs_spline pocket_arcs_krc2 surface_5axis long_pass
+    surface_5axis_fit long_pass_fit} {
     check replay.$name.golden {same_dirs $src/tests/golden/$name $work/replay/$name} same
 }
 # Default program name and template set: made from the input's name, as convert does.

@@ -9,6 +9,7 @@
 #include "cl/arc_chords.hpp"
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/kinematics/tool_axis.hpp"
 
 namespace redpost {
 
@@ -47,11 +48,6 @@ std::string external_axes_words(const Cell& cell) {
     (j.type == JointType::prismatic ? track : table) = true;
   }
   return track && table ? "track and table" : track ? "the track" : table ? "the table" : "";
-}
-
-Eigen::Vector3d slerp_axis(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t) {
-  const Eigen::Quaterniond turn = Eigen::Quaterniond::FromTwoVectors(a, b);
-  return (Eigen::Quaterniond::Identity().slerp(t, turn) * a).normalized();
 }
 
 }  // namespace
@@ -181,6 +177,7 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
   PendingMotion p;
   p.index = summary.motions;
   p.cl_line = m.cl_line;
+  p.first_line = move_first_line > 0 ? move_first_line : m.cl_line;
   p.kind = m.kind;
   p.q = q;
   p.axes = m.axes;
@@ -216,7 +213,9 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
 // Rz(theta) Tz(d) link (alpha = 0, a = 0, no tool frame after it), that is the tracked TCP
 // turned back by -theta about its own z: no second forward kinematics per motion.
 Isometry PostSession::Impl::physical_tcp(const JointVector& q) {
-  if (spin_last >= 0) {
+  // The tracker's own TCP serves only for its own posture: a step written before the end of a
+  // move (emit_line) is another posture, whose TCP lies elsewhere on the line.
+  if (spin_last >= 0 && q == tracker.q()) {
     Isometry T = tracker.tcp_pose_at_q();
     T.linear() = T.linear() * Eigen::AngleAxisd(-q[spin_last], Eigen::Vector3d::UnitZ());
     return T;

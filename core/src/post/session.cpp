@@ -56,7 +56,10 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       spin_last(last_pure_spin(c)),
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
-            [this](const std::string& w) { summary.warnings.push_back(w); }) {
+            [this](const std::string& w) { summary.warnings.push_back(w); }),
+      reducer(options.reduction) {
+  if (const std::string why = point_reduction_problem(o.reduction); !why.empty())
+    throw Error(ErrorCode::bad_input, why);
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
       o.rapid_velocity_m_per_s > 2.0) {
     throw Error(ErrorCode::bad_input,
@@ -97,6 +100,9 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
                      ",deflection_x_mm,deflection_y_mm,deflection_z_mm,deflection_normal_mm,"
                      "cutting_force_N,compensation_mm,residual_mm");
     }
+    // With the point reduction, the first CL line each motion covers (cl_line is the last).
+    if (reducer.enabled())
+      fmt::format_to(std::back_inserter(line), ",cl_first_line");
     line.push_back('\n');
     csv->write(line);
   }
@@ -191,9 +197,12 @@ void PostSession::pump(bool flush) {
 void PostSession::handle(const ClEvent& event) {
   Impl& m = *impl_;
   m.front.push(event);
-  ClEvent e;
-  while (m.front.next(e))
-    route(e);
+  ClEvent e, r;
+  while (m.front.next(e)) {
+    m.reducer.push(e);
+    while (m.reducer.next(r))
+      route(r);
+  }
 }
 
 // Each call defers itself under the plan (after the checks it makes at once).
@@ -222,7 +231,9 @@ void PostSession::route(const ClEvent& e) {
       ClearancePlane cycle;
       cycle.point = e.clearance_p_mm;
       cycle.normal = e.tool_axis.normalized();
+      impl_->move_first_line = e.first_line;
       impl_->move(e.p_mm, e.tool_axis, e.line, e.has_clearance ? &cycle : nullptr);
+      impl_->move_first_line = 0;
       break;
     }
     case ClEventKind::coolant:
@@ -470,6 +481,12 @@ const PostSummary& PostSession::prepare() {
   Impl& m = *impl_;
   if (m.prepared)
     return m.summary;
+  // The last run of the point reduction.
+  m.reducer.finish();
+  for (ClEvent r; m.reducer.next(r);)
+    route(r);
+  m.summary.reducible_points = m.reducer.moves_in();
+  m.summary.reduced_moves = m.reducer.moves_out();
   pump(true);
   if (!m.started) {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",

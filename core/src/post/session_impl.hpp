@@ -100,6 +100,7 @@ struct PostSession::Impl {
   struct PendingMotion {
     long index = 0;
     int cl_line = 0;
+    int first_line = 0;  // the first CL line the motion covers
     KrlMotionKind kind = KrlMotionKind::lin;
     JointVector q;
     AxisValues axes;
@@ -172,8 +173,12 @@ struct PostSession::Impl {
   std::vector<JointVector> plan_q;
   double plan_s = 0.0;
 
-  // The front door (cl/expander.hpp): every event of handle() goes through it first.
+  // The front door (cl/expander.hpp): every event of handle() goes through it first, then the
+  // point reduction (cl/point_reduction.hpp); the first CL line the move being tracked covers
+  // (0: its own), for the joints log.
   ClExpander front;
+  PointReducer reducer;
+  int move_first_line = 0;
 
   Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options);
 

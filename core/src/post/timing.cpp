@@ -13,6 +13,7 @@
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/kinematics/tool_axis.hpp"
 
 namespace redpost {
 
@@ -26,6 +27,24 @@ constexpr int kMaxSlowdownWarnings = 20;
 constexpr std::size_t kMaxFeedLimits = 1000;
 // A stretch is reported where an axis keeps the speed this far below the ask.
 constexpr double kReportBelow = 0.95;
+
+// How far the controller's LIN from T0 to T1 turns the tool axis (z of the TCP) off the great
+// circle between the two axes (rad), the largest of 32 samples. A KUKA LIN turns the whole frame
+// (the quaternion slerp of the standard orientation control, as lin_replay replays it); where
+// the spin about the tool changes along with the axis, the axis leaves its great circle, by
+// about turn x spin / 8 in the middle. The point reduction judged the dropped points against the
+// great circle (cl/point_reduction.hpp), so a merged LIN must stay close to it.
+double axis_off_great_circle(const Isometry& T0, const Isometry& T1) {
+  const Eigen::Quaterniond r0(T0.linear()), r1(T1.linear());
+  const Eigen::Vector3d z0 = T0.linear().col(2), z1 = T1.linear().col(2);
+  double worst = 0.0;
+  for (int k = 1; k < 32; ++k) {
+    const double s = k / 32.0;
+    const Eigen::Vector3d z = r0.slerp(s, r1).toRotationMatrix().col(2);
+    worst = std::max(worst, angle_between(z, slerp_axis(z0, z1, s)));
+  }
+  return worst;
+}
 
 double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   const double c = std::clamp(0.5 * ((a.transpose() * b).trace() - 1.0), -1.0, 1.0);
@@ -240,11 +259,17 @@ void PostSession::Impl::emit_line(int cl_line) {
     const double length = (T1.translation() - T_written.translation()).norm();
     JointVector peak;
     std::string why;
-    if (lin_replay(q_written, T_written, q1, T1, peak, length, why)) {
+    // A LIN that stands for several CL points (the point reduction), whose orientation would
+    // carry the tool axis off its great circle by more than the half of the angular tolerance
+    // the reduction leaves for it, is written as the steps tracked (each on the line, its axis
+    // on the circle): expected, so no warning.
+    const bool axis_ok = move_first_line == 0 || axis_off_great_circle(T_written, T1) <=
+                                                     reducer.controller_axis_budget_rad();
+    if (axis_ok && lin_replay(q_written, T_written, q1, T1, peak, length, why)) {
       write_lin(q1, cl_line, &peak);
       return;
     }
-    if (unproven_lines++ < 20) {
+    if (axis_ok && unproven_lines++ < 20) {
       summary.warnings.push_back(fmt::format(
           "{}:{}: written as {} shorter LINs, the steps tracked along it: the controller's one "
           "straight line cannot be proven ({})",
@@ -398,6 +423,8 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
         fmt::format_to(std::back_inserter(line), ",nan,nan,nan,nan,nan,nan,nan");
       }
     }
+    if (reducer.enabled())
+      fmt::format_to(std::back_inserter(line), ",{}", p.first_line);
     line.push_back('\n');
     csv->write(line);
   }

@@ -90,6 +90,9 @@ struct ClNurbsPoint {
 struct ClEvent {
   ClEventKind kind = ClEventKind::move;
   int line = 0;  // 1-based line of the record in the CL file (first line of a continued record)
+  // A move that stands for several CL points (cl/point_reduction.hpp): the line of the first
+  // point it covers; 0: only its own.
+  int first_line = 0;
 
   // move
   Eigen::Vector3d p_mm = Eigen::Vector3d::Zero();

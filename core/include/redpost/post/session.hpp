@@ -18,6 +18,7 @@
 
 #include "redpost/cl/event.hpp"
 #include "redpost/cl/expander.hpp"
+#include "redpost/cl/point_reduction.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/tool_table.hpp"
@@ -114,6 +115,9 @@ struct PostOptions {
   // NX's MSYS (cl/expander.hpp): the MCS is the workpiece frame (ignore), or every point after an
   // MSYS is turned into NX's absolute frame (apply).
   MsysMode msys = MsysMode::ignore;
+  // Dense CL points merged into fewer straight moves within a tolerance before they are tracked
+  // (cl/point_reduction.hpp, docs/timing.md "Point reduction"); tolerance 0: every point kept.
+  PointReductionOptions reduction;
   // Feed for cutting moves that come before any FEDRAT (a warning is recorded).
   double default_feed_mm_per_min = 1000.0;
   // Rapids (docs/convert.md, "Rapids"): below a clearance plane a rapid follows the straight
@@ -214,6 +218,10 @@ struct PostSummary {
   long lookahead_limited_motions = 0;  // of them, slowed by the look-ahead ($ADVANCE)
   double shortest_motion_s = 0.0;      // the shortest CP motion at its $VEL.CP (0: none)
   int shortest_motion_line = 0;        // its CL line
+  // The point reduction (PostOptions::reduction): the cutting GOTOs it could merge, and the
+  // moves tracked for them (equal without reduction).
+  long reducible_points = 0;
+  long reduced_moves = 0;
 
   // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
   long plan_windows = 0;           // windows planned

@@ -1,0 +1,168 @@
+// Tolerance-bounded point reduction (redpost/cl/point_reduction.hpp, docs/timing.md).
+#include "redpost/cl/point_reduction.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "redpost/kinematics/tool_axis.hpp"
+
+namespace redpost {
+
+namespace {
+
+// A merged move shorter than this (mm) is a turn of the tool on the spot: its tool axis is not
+// tied to the position, so nothing is merged into it.
+constexpr double kShortestMergeMm = 1e-6;
+
+// A GOTO, or a chord of a NURBS: a host that reads plain moves (C ABI 0.5) sends a NURBS's
+// chords as plain moves, and must get the same program.
+bool mergeable_origin(MoveOrigin o) {
+  return o == MoveOrigin::goto_point || o == MoveOrigin::nurbs;
+}
+
+}  // namespace
+
+std::string point_reduction_problem(const PointReductionOptions& o) {
+  if (!std::isfinite(o.tolerance_mm) ||
+      (o.tolerance_mm != 0.0 &&
+       (o.tolerance_mm < kMinFitToleranceMm || o.tolerance_mm > kMaxFitToleranceMm))) {
+    return fmt::format("--fit-tol is {} mm: it must be 0 (no point reduction) or {:g} to {:g} mm",
+                       o.tolerance_mm, kMinFitToleranceMm, kMaxFitToleranceMm);
+  }
+  if (!std::isfinite(o.axis_tolerance_deg) || o.axis_tolerance_deg < kMinFitAngleToleranceDeg ||
+      o.axis_tolerance_deg > kMaxFitAngleToleranceDeg) {
+    return fmt::format("--fit-ang-tol is {} deg: it must be {:g} to {:g} deg", o.axis_tolerance_deg,
+                       kMinFitAngleToleranceDeg, kMaxFitAngleToleranceDeg);
+  }
+  if (o.max_points < 2)
+    return fmt::format("a merged move must be allowed at least 2 points, got {}", o.max_points);
+  return "";
+}
+
+LinDeviation lin_deviation(const Eigen::Vector3d& a, const Eigen::Vector3d& a_axis,
+                           const Eigen::Vector3d& b, const Eigen::Vector3d& b_axis,
+                           const Eigen::Vector3d& p, const Eigen::Vector3d& p_axis) {
+  const Eigen::Vector3d d = b - a;
+  const double length2 = d.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
+  LinDeviation r;
+  r.distance_mm = (p - (a + t * d)).norm();
+  r.axis_rad = angle_between(slerp_axis(a_axis, b_axis, t), p_axis);
+  return r;
+}
+
+PointReducer::PointReducer(const PointReductionOptions& options)
+    : o_(options), axis_tolerance_rad_(0.5 * options.axis_tolerance_deg * kPi / 180.0) {
+  run_.reserve(static_cast<std::size_t>(std::max(o_.max_points, 2)));
+}
+
+void PointReducer::push(const ClEvent& e) {
+  if (!enabled()) {
+    out_.push_back(e);
+    return;
+  }
+  switch (e.kind) {
+    case ClEventKind::move:
+      // Only a cutting GOTO from a known position may be dropped or merged into. The first one
+      // after a move kept as it is (a rapid, which may become a PTP, an approach, a cycle's
+      // move) is kept too: the merged line would start where the program prints no position.
+      if (anchored_ && !keep_next_ && !next_rapid_ && !e.rapid && !e.has_clearance &&
+          mergeable_origin(e.origin) && e.p_mm.allFinite() && e.tool_axis.allFinite()) {
+        add_point(e);
+        return;
+      }
+      pass(e);
+      keep_next_ = !(anchored_ && !next_rapid_ && !e.rapid && !e.has_clearance &&
+                     mergeable_origin(e.origin));
+      next_rapid_ = false;
+      anchored_ = e.p_mm.allFinite() && e.tool_axis.allFinite();
+      anchor_p_ = e.p_mm;
+      anchor_axis_ = e.tool_axis.normalized();
+      return;
+    case ClEventKind::arc:
+      pass(e);
+      next_rapid_ = false;
+      anchored_ = true;
+      anchor_p_ = e.p_mm;
+      anchor_axis_ = e.tool_axis.normalized();
+      return;
+    case ClEventKind::feed:
+      // The same feed again changes nothing (CAM systems repeat it): the run goes on.
+      if (e.value == feed_) {
+        out_.push_back(e);
+        return;
+      }
+      feed_ = e.value;
+      pass(e);
+      return;
+    case ClEventKind::rapid:
+      pass(e);
+      next_rapid_ = true;
+      return;
+    case ClEventKind::tool_change:
+    case ClEventKind::machine_frame:
+      pass(e);
+      anchored_ = false;
+      return;
+    case ClEventKind::unknown_word:
+      out_.push_back(e);  // nothing for the session: no reason to end a run
+      return;
+    default:
+      pass(e);
+      return;
+  }
+}
+
+bool PointReducer::next(ClEvent& e) {
+  if (out_.empty())
+    return false;
+  e = std::move(out_.front());
+  out_.pop_front();
+  return true;
+}
+
+void PointReducer::finish() {
+  flush();
+}
+
+void PointReducer::pass(const ClEvent& e) {
+  flush();
+  out_.push_back(e);
+}
+
+bool PointReducer::covers(const ClEvent& end) const {
+  if ((end.p_mm - anchor_p_).norm() < kShortestMergeMm)
+    return false;
+  const Eigen::Vector3d end_axis = end.tool_axis.normalized();
+  for (const ClEvent& p : run_) {
+    const LinDeviation d = lin_deviation(anchor_p_, anchor_axis_, end.p_mm, end_axis, p.p_mm,
+                                         p.tool_axis.normalized());
+    if (!(d.distance_mm <= o_.tolerance_mm) || !(d.axis_rad <= axis_tolerance_rad_))
+      return false;
+  }
+  return true;
+}
+
+void PointReducer::add_point(const ClEvent& e) {
+  ++moves_in_;
+  if (!run_.empty() && (static_cast<int>(run_.size()) >= o_.max_points || !covers(e)))
+    flush();
+  run_.push_back(e);
+}
+
+void PointReducer::flush() {
+  if (run_.empty())
+    return;
+  ClEvent& end = run_.back();
+  if (run_.size() > 1)
+    end.first_line = run_.front().first_line > 0 ? run_.front().first_line : run_.front().line;
+  anchor_p_ = end.p_mm;
+  anchor_axis_ = end.tool_axis.normalized();
+  out_.push_back(std::move(end));
+  ++moves_out_;
+  run_.clear();
+}
+
+}  // namespace redpost
