@@ -101,7 +101,8 @@ typedef struct rp_options {
   /* Added in 0.8: the point reduction (docs/timing.md, "Point reduction"). Consecutive cutting
    * points are merged into one LIN where it stays within fit_tolerance_mm of every point it
    * drops and within fit_angle_tolerance_deg of its tool axis. 0: every point kept, the program
-   * of 0.7. Defaults 0.01 mm and 0.1 deg (hosts built against 0.7 get them too). */
+   * of 0.7. Defaults 0.01 mm and 0.1 deg; a host built against 0.7 (a struct_size without
+   * these fields) gets 0, its program unchanged. */
   double fit_tolerance_mm;
   double fit_angle_tolerance_deg;
 } rp_options;
@@ -381,7 +382,7 @@ typedef struct rp_timing {
   int shortest_motion_line;       /* its CL line */
   /* Appended in 0.8: the point reduction (rp_options.fit_tolerance_mm). */
   long reducible_points; /* cutting points it could merge (after a cut, within one feed) */
-  long reduced_moves;    /* the moves tracked for them (equal to it without the reduction) */
+  long reduced_moves;    /* the moves tracked for them (both 0 without the reduction) */
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 

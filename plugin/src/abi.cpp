@@ -199,6 +199,10 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     rp_options o;
     rp_options_init(&o);
     std::memcpy(&o, options, options->struct_size);
+    // A host built against 0.7 knows nothing of the point reduction: it gets the program of 0.7,
+    // one motion per CL point, not the 0.8 default.
+    if (options->struct_size < offsetof(rp_options, fit_tolerance_mm) + sizeof o.fit_tolerance_mm)
+      o.fit_tolerance_mm = 0.0;
 
     const std::string cell_path = required(o.cell_path, "options.cell_path");
     const std::string output_dir = required(o.output_dir, "options.output_dir");

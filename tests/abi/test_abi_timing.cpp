@@ -43,6 +43,21 @@ rp_session* open_session(const std::string& dir, const char* name, int plan = RP
   return s;
 }
 
+// Every event of the CL file through the library's reader into the session, then rp_close.
+void convert_file(rp_session* s, const std::string& cl) {
+  rp_reader* r = nullptr;
+  REQUIRE(rp_reader_open(cl.c_str(), 0.01, &r) == RP_OK);
+  rp_event e;
+  int more = 1;
+  while (more) {
+    REQUIRE(rp_reader_next(r, &e, &more) == RP_OK);
+    if (more)
+      REQUIRE(rp_session_event(s, &e) == RP_OK);
+  }
+  rp_reader_free(r);
+  REQUIRE(rp_close(s) == RP_OK);
+}
+
 struct Cut {
   double p[3];
   double feed_mm_per_min;  // 0: a rapid
@@ -139,17 +154,7 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
   fs::create_directories(out);
 
   rp_session* s = open_session(out, "FAST");
-  rp_reader* r = nullptr;
-  REQUIRE(rp_reader_open(cl.c_str(), 0.01, &r) == RP_OK);
-  rp_event e;
-  int more = 1;
-  while (more) {
-    REQUIRE(rp_reader_next(r, &e, &more) == RP_OK);
-    if (more)
-      REQUIRE(rp_session_event(s, &e) == RP_OK);
-  }
-  rp_reader_free(r);
-  REQUIRE(rp_close(s) == RP_OK);
+  convert_file(s, cl);
 
   rp_timing t{};
   t.struct_size = sizeof t;
@@ -209,4 +214,60 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
     CHECK(std::memcmp(&part.feed_time_s, untouched, sizeof untouched) == 0);
   }
   rp_free(s);
+}
+
+TEST_CASE("abi timing: the point reduction's defaults, bounds, counters and a 0.7 host", "[abi]") {
+  rp_options o;
+  rp_options_init(&o);
+  CHECK(o.fit_tolerance_mm == 0.01);
+  CHECK(o.fit_angle_tolerance_deg == 0.1);
+  const std::string dir = fresh_dir("fit");
+  o.cell_path = kCell.c_str();
+  o.output_dir = dir.c_str();
+  o.program_name = "FIT";
+  rp_session* s = nullptr;
+  for (double bad : {-1.0, 1e-4, 2.0, std::nan("")}) {
+    o.fit_tolerance_mm = bad;
+    CHECK(rp_open(&o, &s) == RP_ERR_BAD_INPUT);
+    CHECK(std::string(rp_last_error(nullptr)).find("--fit-tol") != std::string::npos);
+  }
+  o.fit_tolerance_mm = 0.01;
+  for (double bad : {0.0, 10.0, std::nan("")}) {
+    o.fit_angle_tolerance_deg = bad;
+    CHECK(rp_open(&o, &s) == RP_ERR_BAD_INPUT);
+    CHECK(std::string(rp_last_error(nullptr)).find("--fit-ang-tol") != std::string::npos);
+  }
+  o.fit_angle_tolerance_deg = 0.1;
+
+  // The long pass (403 CL points on straight lines): merged with the defaults, one motion per
+  // point with 0, and for a host whose rp_options ends before the 0.8 fields.
+  const auto run = [&](const rp_options& options, const char* name) {
+    const std::string out = dir + "/" + name;
+    fs::create_directories(out);
+    rp_options copy = options;
+    copy.output_dir = out.c_str();
+    copy.program_name = name;
+    rp_session* session = nullptr;
+    REQUIRE(rp_open(&copy, &session) == RP_OK);
+    convert_file(session, kSource + "/examples/cl/long_pass.apt");
+    rp_timing t{};
+    t.struct_size = sizeof t;
+    REQUIRE(rp_timing_get(session, &t) == RP_OK);
+    rp_free(session);
+    return t;
+  };
+  const rp_timing reduced = run(o, "FIT_ON");
+  CHECK(reduced.reducible_points > 300);
+  CHECK(reduced.reduced_moves * 10 < reduced.reducible_points);
+  rp_options off = o;
+  off.fit_tolerance_mm = 0.0;
+  const rp_timing every = run(off, "FIT_OFF");
+  CHECK(every.reduced_moves == 0);  // nothing reduced
+  CHECK(every.reducible_points == 0);
+  CHECK(every.cp_motions > 10 * reduced.cp_motions);
+  rp_options old_host = o;
+  old_host.struct_size = offsetof(rp_options, fit_tolerance_mm);
+  const rp_timing old = run(old_host, "FIT_07");
+  CHECK(old.reduced_moves == every.reduced_moves);
+  CHECK(old.cp_motions == every.cp_motions);
 }

@@ -80,6 +80,63 @@ fi
 grep -q "FAIL: an axis passes 1.00 of its velocity limit" "$TMP/check" || fail "$(cat "$TMP/check")"
 passed
 
+# fit NAME CL_FILE [convert options...]: converts CL_FILE with the point reduction (the default)
+# and without it (--fit-tol 0), both with a joints log, and checks from the two written programs
+# that every CL point lies within 0.01 mm and 0.1 deg of the reduced program's path
+# (tests/cli/fit_check.py), and the reduced one's axis speeds (speed_check.py).
+fit() {
+  local name=$1 cl=$2
+  shift 2
+  speeds "$name" "$cl" "$@"
+  cp "$TMP/out" "$TMP/$name.out"
+  mkdir -p "$TMP/${name}_ref"
+  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q "$@"
+  expect_rc 0
+  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
+    fail "$name: $(cat "$TMP/fit")"
+  echo "cli.speeds: $name: $(cat "$TMP/fit")"
+}
+
+begin "point reduction at 10 000 mm/min: every CL point of the examples and a raster within 0.01 mm and 0.1 deg of the written path"
+$py "$SRC/tests/bench/make_raster_apt.py" 5000 "$TMP/raster5k.apt"
+for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
+  name=fastfit_$(basename "$f")
+  fast "$f" "$TMP/$name.cl"
+  fit "$name" "$TMP/$name.cl"
+done
+# The raster is reduced (its points are 0.5 mm apart: 3 ms at 10 m/min), and then runs at its
+# feed: no motion shorter than the 12 ms cycle.
+out=$TMP/fastfit_raster5k.apt.out
+factor=$(sed -n 's/^point reduction: 4999 cutting point(s) tracked as .* (\([0-9.]*\) x fewer)$/\1/p' "$out")
+awk -v f="${factor:-0}" 'BEGIN { exit !(f >= 10) }' || fail "raster: $(grep '^point reduction' "$out")"
+grep -q "^interpolation cycle 12 ms: 0 of " "$out" || fail "raster: $(grep '^interpolation' "$out")"
+passed
+
+begin "point reduction: a program reduced with looser tolerances fails the check at 0.01 mm and 0.1 deg"
+dir=$TMP/fastfit_raster5k.apt
+mkdir -p "$dir/loose"
+run convert "$dir.cl" --cell "$cell" -o "$dir/loose" --name P --fit-tol 0.5 --fit-ang-tol 2 -q
+expect_rc 0
+if $py "$SRC/tests/cli/fit_check.py" "$dir/loose/P.src" "${dir}_ref/P.src" >"$TMP/fit" 2>&1; then
+  fail "the check passed a program reduced within 2 deg: $(cat "$TMP/fit")"
+fi
+grep -q "outside the tolerance" "$TMP/fit" || fail "$(cat "$TMP/fit")"
+# ... and passes it at the tolerances it was reduced with.
+$py "$SRC/tests/cli/fit_check.py" "$dir/loose/P.src" "${dir}_ref/P.src" --tol 0.5 --ang-tol 2 \
+  >"$TMP/fit" 2>&1 || fail "loose: $(cat "$TMP/fit")"
+passed
+
+begin "point reduction: bad tolerances are refused before anything is written"
+for bad in "--fit-tol -1" "--fit-tol 2" "--fit-tol nan" "--fit-ang-tol 0" "--fit-ang-tol 10"; do
+  mkdir -p "$TMP/badfit"
+  # shellcheck disable=SC2086 # the option and its value
+  run convert "$SRC/examples/cl/long_pass.apt" --cell "$cell" -o "$TMP/badfit" --name P $bad
+  expect_rc 2
+  expect_err "${bad%% *}"
+  [[ -z "$(ls -A "$TMP/badfit")" ]] || fail "$bad: output left behind: $(ls "$TMP/badfit")"
+done
+passed
+
 begin "a cell without <speed> converts pose by pose and says the axis speeds are not checked"
 sed '/<speed /d' "$cell" >"$TMP/nospeed.xml"
 mkdir -p "$TMP/nospeed"
@@ -195,7 +252,7 @@ for f in "$eval_dir"/apt/*.apt "$eval_dir"/clsf/*; do
   speeds "eval_$name" "$f" "${opts[@]}"
   if grep -q FEDRAT "$f"; then
     fast "$f" "$TMP/fast_$name"
-    speeds "evalfast_$name" "$TMP/fast_$name" "${opts[@]}"
+    fit "evalfast_$name" "$TMP/fast_$name" "${opts[@]}"
   fi
 done
 passed

@@ -123,6 +123,15 @@ check_error usage.deflection {
 check_error error.cutting_without_model {
     ::redpost::open -cell $cell -output $work -name X -cutting $work/cut.xml
 } {REDPOST RP_ERR_BAD_INPUT} {*no deflection prediction was asked*}
+check_error error.fit_tol {
+    ::redpost::open -cell $cell -output $work -name X -fit-tol -1
+} {REDPOST RP_ERR_BAD_INPUT} {*--fit-tol is -1 mm: it must be 0 (no point reduction) or 0.001 to 1 mm*}
+check_error error.fit_ang_tol {
+    ::redpost::open -cell $cell -output $work -name X -fit-ang-tol 9
+} {REDPOST RP_ERR_BAD_INPUT} {*--fit-ang-tol is 9 deg*}
+check_error usage.fit_tol_number {
+    ::redpost::open -cell $cell -output $work -name X -fit-tol fine
+} {REDPOST USAGE} {expected a number for -fit-tol but got "fine"}
 check_error usage.reader_count {::redpost::reader_open} * {wrong # args*}
 check_error usage.no_reader {::redpost::reader_next rpreader99} {REDPOST NO_READER} *rpreader99*
 

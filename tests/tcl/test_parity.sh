@@ -83,6 +83,13 @@ case_ ex_pocket_compensate "$ex/pocket_arcs.apt" --compensate --cutting "$work/c
 case_ ex_pocket_tools "$ex/pocket_arcs.apt" --tools "$work/tools.xml" --split 40
 case_ ex_long_pass_lock "$ex/long_pass.apt" --lock E2 --preset stiff --keyframe-spacing 30
 case_ ex_surface_bytes "$ex/surface_5axis.cls" --max-bytes 16384 --apo 1 --cl-line-every 10
+# The point reduction (issue 30): off, looser, and a dense raster at a production feed.
+case_ ex_surface_nofit "$ex/surface_5axis.cls" --fit-tol 0
+case_ ex_long_pass_fit "$ex/long_pass.apt" --fit-tol 0.05 --fit-ang-tol 0.5 --krl krc4_spline
+python3 "$src/tests/bench/make_raster_apt.py" 3000 "$work/raster.apt"
+sed -i 's#FEDRAT/MMPM,3000#FEDRAT/MMPM,10000#' "$work/raster.apt"
+case_ raster_fast "$work/raster.apt"
+case_ raster_fast_loose "$work/raster.apt" --fit-tol 0.1 --fit-ang-tol 1
 
 ev=$src/../shared/evaldata
 if [[ -d "$ev" ]]; then
@@ -117,6 +124,10 @@ if [[ -d "$ev" ]]; then
     case_ "${name}_msys" "$ev/clsf/$f" --msys apply
   done
   case_ ev_nx_nurbs_fixed_contour_spline "$ev/clsf/nx_nurbs_fixed_contour.clsf" --krl krc4_spline
+  case_ ev_nx_nurbs_fixed_contour_loose "$ev/clsf/nx_nurbs_fixed_contour.clsf" --fit-tol 0.1 \
+    --fit-ang-tol 1
+  case_ ev_nx_variable_contour_5axis_nofit "$ev/clsf/nx_variable_contour_5axis.cls" --msys apply \
+    --fit-tol 0
   case_ ev_nx_cycle_drill_deep_msys "$ev/clsf/nx_cycle_drill_deep.clsf" --msys apply
 else
   echo "parity: note: ../shared/evaldata not present, only the examples are compared"

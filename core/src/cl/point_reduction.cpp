@@ -22,6 +22,42 @@ bool mergeable_origin(MoveOrigin o) {
   return o == MoveOrigin::goto_point || o == MoveOrigin::nurbs;
 }
 
+// The straight move a -> b made once for the many points a run tests against it: its direction,
+// and the great circle of its tool axis (normal n, the axis a_axis turned by 90 deg along it as
+// m), so that a point costs one sincos and no inverse trigonometry. The same circle as
+// slerp_axis (kinematics/tool_axis.hpp), which the tracker steps along.
+class MergedLin {
+ public:
+  MergedLin(const Eigen::Vector3d& a, const Eigen::Vector3d& a_axis, const Eigen::Vector3d& b,
+            const Eigen::Vector3d& b_axis)
+      : a_(a), d_(b - a), a_axis_(a_axis) {
+    const double length2 = d_.squaredNorm();
+    inv_length2_ = length2 > 0.0 ? 1.0 / length2 : 0.0;
+    const Eigen::Vector3d c = a_axis.cross(b_axis);
+    const double s = c.norm();
+    angle_rad_ = std::atan2(s, a_axis.dot(b_axis));
+    // Parallel (or opposite) axes: no circle to follow; the axis stays a's (opposite axes are
+    // refused by the caller, which compares the end's axis too).
+    m_ = s > 1e-300 ? Eigen::Vector3d((c / s).cross(a_axis)) : Eigen::Vector3d::Zero();
+  }
+  // The fraction of the line nearest p (clamped to the segment).
+  double fraction(const Eigen::Vector3d& p) const {
+    return std::clamp((p - a_).dot(d_) * inv_length2_, 0.0, 1.0);
+  }
+  double distance2(const Eigen::Vector3d& p, double t) const {
+    return (p - (a_ + t * d_)).squaredNorm();
+  }
+  Eigen::Vector3d axis_at(double t) const {
+    const double phi = t * angle_rad_;
+    return a_axis_ * std::cos(phi) + m_ * std::sin(phi);
+  }
+
+ private:
+  Eigen::Vector3d a_, d_, a_axis_, m_;
+  double inv_length2_ = 0.0;
+  double angle_rad_ = 0.0;
+};
+
 }  // namespace
 
 std::string point_reduction_problem(const PointReductionOptions& o) {
@@ -44,12 +80,11 @@ std::string point_reduction_problem(const PointReductionOptions& o) {
 LinDeviation lin_deviation(const Eigen::Vector3d& a, const Eigen::Vector3d& a_axis,
                            const Eigen::Vector3d& b, const Eigen::Vector3d& b_axis,
                            const Eigen::Vector3d& p, const Eigen::Vector3d& p_axis) {
-  const Eigen::Vector3d d = b - a;
-  const double length2 = d.squaredNorm();
-  const double t = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
+  const MergedLin line(a, a_axis, b, b_axis);
+  const double t = line.fraction(p);
   LinDeviation r;
-  r.distance_mm = (p - (a + t * d)).norm();
-  r.axis_rad = angle_between(slerp_axis(a_axis, b_axis, t), p_axis);
+  r.distance_mm = std::sqrt(line.distance2(p, t));
+  r.axis_rad = angle_between(line.axis_at(t), p_axis);
   return r;
 }
 
@@ -136,10 +171,24 @@ bool PointReducer::covers(const ClEvent& end) const {
   if ((end.p_mm - anchor_p_).norm() < kShortestMergeMm)
     return false;
   const Eigen::Vector3d end_axis = end.tool_axis.normalized();
-  for (const ClEvent& p : run_) {
-    const LinDeviation d = lin_deviation(anchor_p_, anchor_axis_, end.p_mm, end_axis, p.p_mm,
-                                         p.tool_axis.normalized());
-    if (!(d.distance_mm <= o_.tolerance_mm) || !(d.axis_rad <= axis_tolerance_rad_))
+  // A half turn of the tool within one move has no one great circle: never merged.
+  if (anchor_axis_.dot(end_axis) < 0.0)
+    return false;
+  const MergedLin line(anchor_p_, anchor_axis_, end.p_mm, end_axis);
+  const double tolerance2 = o_.tolerance_mm * o_.tolerance_mm;
+  const double sin_axis = std::sin(axis_tolerance_rad_);
+  // Most refusals come from the point added last: test it first, and the distances (cheap)
+  // before the axes.
+  for (auto it = run_.rbegin(); it != run_.rend(); ++it) {
+    if (!(line.distance2(it->p_mm, line.fraction(it->p_mm)) <= tolerance2))
+      return false;
+  }
+  for (auto it = run_.rbegin(); it != run_.rend(); ++it) {
+    // The angle between two unit vectors within the tolerance (below 90 deg): the sine by the
+    // cross product, accurate where the cosine is not.
+    const Eigen::Vector3d g = line.axis_at(line.fraction(it->p_mm));
+    const Eigen::Vector3d p_axis = it->tool_axis.normalized();
+    if (!(g.cross(p_axis).norm() <= sin_axis) || g.dot(p_axis) <= 0.0)
       return false;
   }
   return true;

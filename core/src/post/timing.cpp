@@ -402,34 +402,38 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
     close_limit();
   }
 
-  if (csv) {
-    line.clear();
-    fmt::format_to(std::back_inserter(line), "{},{},{:.4f}", p.index, p.cl_line, end_s);
-    for (int i = 0; i < n; ++i)
-      fmt::format_to(std::back_inserter(line), ",{:.9f}", p.q[i]);
-    for (int i = 0; i < n; ++i) {
-      if (cell.joint(i).axis.mapped())
-        fmt::format_to(std::back_inserter(line), ",{:.6f}", to_axis_value(cell.joint(i), p.q[i]));
-    }
-    if (o.deflection != DeflectionMode::off) {
-      // "nan" where no load was modelled (a rapid, a PTP, a plunge, a step inside a move).
-      const MotionDeflection& d = p.deflection;
-      if (p.has_deflection) {
-        fmt::format_to(std::back_inserter(line),
-                       ",{:.5f},{:.5f},{:.5f},{:.5f},{:.2f},{:.5f},{:.5f}", d.translation_mm.x(),
-                       d.translation_mm.y(), d.translation_mm.z(), d.normal_mm, d.force_N,
-                       d.compensation_mm, d.residual_mm);
-      } else {
-        fmt::format_to(std::back_inserter(line), ",nan,nan,nan,nan,nan,nan,nan");
-      }
-    }
-    if (reducer.enabled())
-      fmt::format_to(std::back_inserter(line), ",{}", p.first_line);
-    line.push_back('\n');
-    csv->write(line);
-  }
+  if (csv)
+    write_joints_row(p, end_s);
   if (o.on_motion)
     observe(p, t, mt);
+}
+
+// The motion's row of the joints log (docs/convert.md, --joints-csv), once it is timed.
+void PostSession::Impl::write_joints_row(const PendingMotion& p, double end_s) {
+  const int n = cell.size();
+  line.clear();
+  fmt::format_to(std::back_inserter(line), "{},{},{:.4f}", p.index, p.cl_line, end_s);
+  for (int i = 0; i < n; ++i)
+    fmt::format_to(std::back_inserter(line), ",{:.9f}", p.q[i]);
+  for (int i = 0; i < n; ++i) {
+    if (cell.joint(i).axis.mapped())
+      fmt::format_to(std::back_inserter(line), ",{:.6f}", to_axis_value(cell.joint(i), p.q[i]));
+  }
+  if (o.deflection != DeflectionMode::off) {
+    // "nan" where no load was modelled (a rapid, a PTP, a plunge, a step inside a move).
+    const MotionDeflection& d = p.deflection;
+    if (p.has_deflection) {
+      fmt::format_to(std::back_inserter(line), ",{:.5f},{:.5f},{:.5f},{:.5f},{:.2f},{:.5f},{:.5f}",
+                     d.translation_mm.x(), d.translation_mm.y(), d.translation_mm.z(), d.normal_mm,
+                     d.force_N, d.compensation_mm, d.residual_mm);
+    } else {
+      fmt::format_to(std::back_inserter(line), ",nan,nan,nan,nan,nan,nan,nan");
+    }
+  }
+  if (reducer.enabled())
+    fmt::format_to(std::back_inserter(line), ",{}", p.first_line);
+  line.push_back('\n');
+  csv->write(line);
 }
 
 void PostSession::Impl::close_slowdown() {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "catch_compat.hpp"
 #include "redpost/cl/reader.hpp"
 #include "redpost/io/error.hpp"
@@ -45,6 +47,7 @@ struct RunOptions {
   double chordal_tolerance_mm = 0.01;
   MsysMode msys = MsysMode::ignore;
   std::string name = "PROG";
+  double fit_tolerance_mm = 0.0;  // point reduction off, as PostOptions has it
 };
 
 // Converts CL text as `redpost convert` does (reader -> session), into `dir`.
@@ -64,6 +67,7 @@ Run run(const std::string& cl, const fs::path& dir, const RunOptions& ro = {}) {
   o.clearance_z_mm = ro.clearance_z_mm;
   o.tools = ro.tools;
   o.chordal_tolerance_mm = ro.chordal_tolerance_mm;
+  o.reduction.tolerance_mm = ro.fit_tolerance_mm;
   std::ifstream in = open_text_stream(input.string());
   ClReaderOptions read;
   read.arcs_as_events = ro.arcs_as_events;
@@ -476,4 +480,51 @@ TEST_CASE("machine: INSERT/KRL: passes a checked statement, free text never reac
   }
   for (const auto& e : fs::directory_iterator(bad.path))
     CHECK(e.path().extension() != ".src");
+}
+
+TEST_CASE("machine: a merged move written as its tracked steps puts every step on the CL line",
+          "[machine][point_reduction]") {
+  // 301 points 1 mm apart on a straight line while the tool tilts 20 deg about y: each merged
+  // move of 100 points turns the whole frame (tilt and spin) further off the tool axis's great
+  // circle than the angular tolerance allows, so it is written as the steps the tracker took.
+  // Each step must be where the tracker took it, on the line (a regression: every step was
+  // once written at the merged move's end point).
+  std::string cl =
+      "UNITS/MM\nLOADTL/1\nSPINDL/RPM,8000,CLW\nRAPID\nGOTO/-100,-500,100,0,0,1\n"
+      "FEDRAT/MMPM,2000\n";
+  for (int i = 0; i <= 300; ++i) {
+    const double tilt = deg_to_rad(20.0 * i / 300.0);
+    cl += fmt::format("GOTO/{:.4f},-500.0000,40.0000,{:.7f},0.0000000,{:.7f}\n", -100.0 + i,
+                      std::sin(tilt), std::cos(tilt));
+  }
+  test::TempDir dir;
+  RunOptions ro;
+  ro.fit_tolerance_mm = 0.01;
+  const Run r = run(cl, dir.path, ro);
+  CHECK(r.summary.reducible_points == 300);
+  CHECK(r.summary.reduced_moves < 10);
+  static const std::regex lin(
+      R"(LIN \{E6POS: X (\S+), Y (\S+), Z (\S+), A (\S+), B (\S+), C (\S+),)");
+  int lins = 0;
+  double last_x = -1e9;
+  for (auto it = std::sregex_iterator(r.src.begin(), r.src.end(), lin);
+       it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), z = std::stod((*it)[3]);
+    const KukaAbc abc{std::stod((*it)[4]), std::stod((*it)[5]), std::stod((*it)[6])};
+    INFO("LIN at X " << x);
+    CHECK(std::fabs(y + 500.0) <= 0.0015);
+    CHECK(std::fabs(z - 40.0) <= 0.0015);
+    CHECK(x > last_x);  // each step further along, none repeated at the end
+    last_x = x;
+    // Its tool axis: the CL file's at that x (the tilt is linear in x), within the tolerance.
+    const double tilt = deg_to_rad(20.0 * (x + 100.0) / 300.0);
+    const Eigen::Vector3d expected(std::sin(tilt), 0.0, std::cos(tilt));
+    const Eigen::Vector3d axis = rotation_from_abc(abc).col(2);
+    CHECK(rad_to_deg(std::acos(std::min(1.0, axis.dot(expected)))) <= 0.1);
+    ++lins;
+  }
+  // The steps, not one LIN per point and not one per merged move.
+  CHECK(lins > 10);
+  CHECK(lins < 150);
+  CHECK(last_x == Approx(200.0).margin(0.001));
 }

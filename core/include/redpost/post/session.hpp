@@ -219,7 +219,7 @@ struct PostSummary {
   double shortest_motion_s = 0.0;      // the shortest CP motion at its $VEL.CP (0: none)
   int shortest_motion_line = 0;        // its CL line
   // The point reduction (PostOptions::reduction): the cutting GOTOs it could merge, and the
-  // moves tracked for them (equal without reduction).
+  // moves tracked for them (both 0 without the reduction).
   long reducible_points = 0;
   long reduced_moves = 0;
 
