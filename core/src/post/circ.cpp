@@ -30,6 +30,10 @@ Eigen::Vector3d printed(const Eigen::Vector3d& p, int decimals) {
 
 const ArmIk* PostSession::Impl::arm_ik_for_active(std::string& why) {
   if (arm_ik_cell != active_cell) {
+    // The planner holds the IK it was built on: it goes with it (a tool change back to an
+    // earlier tool's cell would otherwise find the planner of that cell on a freed IK).
+    planner.reset();
+    planner_cell = nullptr;
     arm_ik.reset();
     arm_ik_cell = active_cell;
     try {

@@ -48,6 +48,7 @@ struct RunOptions {
   MsysMode msys = MsysMode::ignore;
   std::string name = "PROG";
   double fit_tolerance_mm = 0.0;  // point reduction off, as PostOptions has it
+  RedundancyPlan plan = RedundancyPlan::local;
 };
 
 // Converts CL text as `redpost convert` does (reader -> session), into `dir`.
@@ -68,6 +69,7 @@ Run run(const std::string& cl, const fs::path& dir, const RunOptions& ro = {}) {
   o.tools = ro.tools;
   o.chordal_tolerance_mm = ro.chordal_tolerance_mm;
   o.reduction.tolerance_mm = ro.fit_tolerance_mm;
+  o.plan = ro.plan;
   std::ifstream in = open_text_stream(input.string());
   ClReaderOptions read;
   read.arcs_as_events = ro.arcs_as_events;
@@ -198,6 +200,40 @@ TEST_CASE(
   }
   // The tool axis is +z: the longer tool's flange is 36 mm higher, nothing else.
   CHECK((flange[1] - flange[0] - Eigen::Vector3d(0, 0, 36.0)).norm() < 1e-3);
+}
+
+TEST_CASE(
+    "machine: back to the first tool under the whole-path plan, the TCP is that tool's again "
+    "(FK)",
+    "[machine]") {
+  // Tool 1, tool 2, tool 1 again: the session goes back to the first tool's cell, whose planner
+  // must be built on that cell's IK (it once kept one that the second cell's replay had freed).
+  const Cell cell = test::shipped_cell(kCell);
+  std::string cl = "UNITS/MM\n";
+  const double lengths[] = {69.0, 40.0, 69.0};
+  const int numbers[] = {1, 2, 1};
+  for (int k = 0; k < 3; ++k) {
+    cl += fmt::format("CUTTER/10.,0,5.,0,0,0,{:.1f}\nLOADTL/{}\n", lengths[k], numbers[k]);
+    // The second, shorter tool is loaded and put back without a move: the retract before the
+    // third change (by the 29 mm the next tool is longer) is the only motion on its cell.
+    if (k != 1) {
+      cl +=
+          "RAPID/\nGOTO/-100.,-450.,40.\nFEDRAT/600,MMPM\nGOTO/-100.,-450.,-2.\n"
+          "GOTO/-60.,-450.,-2.\nGOTO/-60.,-470.,-2.\nRAPID/\nGOTO/-60.,-470.,40.\n";
+    }
+  }
+  cl += "FINI\n";
+  test::TempDir dir;
+  RunOptions ro;
+  ro.plan = RedundancyPlan::global;
+  const Run r = run(cl, dir.path, ro);
+  REQUIRE(!r.q.empty());
+  // The last motion (the third tool's retract) puts that tool's own TCP at its point.
+  const Cell tool1 = cell_for_tool(cell, 69.0);
+  const Isometry tcp = tcp_pose(tool1, to_q(tool1, r.q.back()));
+  CHECK((tcp.translation() - Eigen::Vector3d(-60, -470, 40)).norm() < 2e-4);
+  CHECK(r.src.find("$TOOL = TOOL_DATA[2]") != std::string::npos);
+  CHECK(r.src.rfind("$TOOL = TOOL_DATA[1]") > r.src.find("$TOOL = TOOL_DATA[2]"));
 }
 
 TEST_CASE("machine: the drill job writes a $TOOL per CL tool, the coupled base and safe PTPs",
