@@ -60,6 +60,28 @@ struct ArcChords {
   }
 };
 
+// The part of `arc` from fraction f0 to f1 of its sweep, as an arc of its own with `chords`
+// chords (at least 1); its end is `arc.end` exactly where f1 is 1. A full turn has no circle
+// through its start, middle and end (two of them coincide): the session writes it as two halves.
+inline ArcChords arc_piece(const ArcChords& arc, double f0, double f1, long chords) {
+  ArcChords piece = arc;
+  const double phi0 = f0 * arc.sweep_rad;
+  piece.u = std::cos(phi0) * arc.u + std::sin(phi0) * arc.v;
+  piece.v = arc.axis.cross(piece.u);
+  piece.r0 = arc.r0 + (arc.r1 - arc.r0) * f0;
+  piece.r1 = arc.r0 + (arc.r1 - arc.r0) * f1;
+  piece.h0 = arc.h0 + (arc.h1 - arc.h0) * f0;
+  piece.h1 = arc.h0 + (arc.h1 - arc.h0) * f1;
+  piece.sweep_rad = (f1 - f0) * arc.sweep_rad;
+  piece.chords = std::max(1L, chords);
+  if (f1 < 1.0) {
+    const double phi1 = f1 * arc.sweep_rad;
+    piece.end = arc.centre + piece.h1 * arc.axis +
+                piece.r1 * (std::cos(phi1) * arc.u + std::sin(phi1) * arc.v);
+  }
+  return piece;
+}
+
 // What is wrong with an arc, so that each caller can point at the right place (the CIRCLE
 // record, or the GOTO that ends the arc).
 enum class ArcProblem {

@@ -535,20 +535,42 @@ void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen
   // Every chord of a rapid arc is rapid, as the reader marks them.
   const bool rapid = next_rapid;
   const Eigen::Vector3d chord_axis = last_cl_axis;
-  // A feed arc in one plane with one tool axis may be one CIRC (circ.cpp).
-  const bool planar = std::fabs(built.arc.h1 - built.arc.h0) < 1e-9 &&
-                      built.arc.sweep_rad < 2.0 * 3.14159265358979323846 - 1e-6;
+  // A feed arc in one plane with one tool axis may be one CIRC (circ.cpp); a full turn two, of
+  // half a turn each (its start, middle and end give no circle: two of them coincide).
+  const bool planar = std::fabs(built.arc.h1 - built.arc.h0) < 1e-9;
+  const bool full_turn = built.arc.sweep_rad >= 2.0 * 3.14159265358979323846 - 1e-6;
   // Under the deflection model every chord is a cutting move with its own load and (under
   // compensate) its own moved target: a CIRC has one end and one via point only.
   if (!rapid && !approach_pending && writer.has_circ() && planar && built.arc.chords > 1 &&
       !deflection_on() && (tool_axis.normalized() - chord_axis).norm() < 1e-9) {
     next_rapid = false;
-    if (try_circ(built.arc, chord_axis, cl_line))
+    if (!full_turn) {
+      if (try_circ(built.arc, chord_axis, cl_line))
+        return;
+    } else {
+      // Split at a chord's end, so that a half written as chords has the whole arc's chords.
+      const long first = (built.arc.chords + 1) / 2;
+      const double f = static_cast<double>(first) / static_cast<double>(built.arc.chords);
+      const detail::ArcChords halves[2] = {
+          detail::arc_piece(built.arc, 0.0, f, first),
+          detail::arc_piece(built.arc, f, 1.0, built.arc.chords - first)};
+      for (int h = 0; h < 2; ++h) {
+        if (!try_circ(halves[h], chord_axis, cl_line))
+          arc_chord_moves(halves[h], chord_axis, h == 1 ? tool_axis : chord_axis, false, cl_line);
+      }
       return;
+    }
   }
-  for (long k = 1; k <= built.arc.chords; ++k) {
+  arc_chord_moves(built.arc, chord_axis, tool_axis, rapid, cl_line);
+}
+
+// The chords of `arc` as moves, the last with the arc's end axis.
+void PostSession::Impl::arc_chord_moves(const detail::ArcChords& arc,
+                                        const Eigen::Vector3d& chord_axis,
+                                        const Eigen::Vector3d& end_axis, bool rapid, int cl_line) {
+  for (long k = 1; k <= arc.chords; ++k) {
     next_rapid = rapid;
-    move(built.arc.point(k), k == built.arc.chords ? tool_axis : chord_axis, cl_line, nullptr);
+    move(arc.point(k), k == arc.chords ? end_axis : chord_axis, cl_line, nullptr);
   }
 }
 

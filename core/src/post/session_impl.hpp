@@ -247,6 +247,8 @@ struct PostSession::Impl {
 
   // --- circ.cpp ------------------------------------------------------------------------------
   bool try_circ(const detail::ArcChords& arc, const Eigen::Vector3d& tool_axis, int cl_line);
+  void arc_chord_moves(const detail::ArcChords& arc, const Eigen::Vector3d& chord_axis,
+                       const Eigen::Vector3d& end_axis, bool rapid, int cl_line);
   bool circ_replay_ok(const JointVector& q0, const JointVector& q1, const detail::ArcChords& arc,
                       JointVector& peak_rate, std::string& why);
   const ArmIk* arm_ik_for_active(std::string& why);

@@ -434,6 +434,43 @@ TEST_CASE(
 
 // --- CIRC -------------------------------------------------------------------------------------
 
+// A CIRC as the controller reads it: its start (the last position printed before it), the
+// auxiliary and the end point, and the circle through the three (closed form).
+struct PrintedCirc {
+  Eigen::Vector3d start, aux, end, centre, normal;  // normal: unit, by the right-hand rule a->b->c
+  double radius_mm = 0.0;
+  double sweep_rad = 0.0;  // from the start through the auxiliary point to the end
+};
+
+std::vector<PrintedCirc> printed_circs(const std::string& src) {
+  static const std::regex circ(
+      R"(CIRC \{X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+)\}, \{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
+  static const std::regex any(R"(\{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
+  std::vector<PrintedCirc> out;
+  for (auto it = std::sregex_iterator(src.begin(), src.end(), circ); it != std::sregex_iterator();
+       ++it) {
+    PrintedCirc c;
+    const std::string before = src.substr(0, static_cast<size_t>(it->position()));
+    for (auto jt = std::sregex_iterator(before.begin(), before.end(), any);
+         jt != std::sregex_iterator(); ++jt)
+      c.start = Eigen::Vector3d(std::stod((*jt)[1]), std::stod((*jt)[2]), std::stod((*jt)[3]));
+    c.aux = Eigen::Vector3d(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
+    c.end = Eigen::Vector3d(std::stod((*it)[4]), std::stod((*it)[5]), std::stod((*it)[6]));
+    const Eigen::Vector3d ab = c.aux - c.start, ac = c.end - c.start;
+    const Eigen::Vector3d n = ab.cross(ac);
+    c.centre = c.start + (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) /
+                             (2.0 * n.squaredNorm());
+    c.normal = n.normalized();
+    c.radius_mm = (c.start - c.centre).norm();
+    const Eigen::Vector3d u = c.start - c.centre, w = c.end - c.centre;
+    c.sweep_rad = std::atan2(c.normal.dot(u.cross(w)), u.dot(w));
+    if (c.sweep_rad <= 0.0)
+      c.sweep_rad += 2.0 * kPi;
+    out.push_back(c);
+  }
+  return out;
+}
+
 TEST_CASE(
     "machine: arcs become CIRCs whose circle through the written points stays on the CL "
     "arc; arcs that cannot be proven stay chords",
@@ -444,32 +481,14 @@ TEST_CASE(
   ro.templates = "krc4_circ";
   ro.arcs_as_events = true;
   const Run r = run(cl, dir.path, ro);
-  // Each CIRC: start (the motion before), auxiliary and end point as printed; their circle must
-  // have the CL arc's radius 12 mm and its centre on the arc's axis (independent of redpost).
-  static const std::regex circ(
-      R"(CIRC \{X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+)\}, \{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
-  static const std::regex any(R"(\{E6POS: X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+),)");
-  int circs = 0;
-  for (auto it = std::sregex_iterator(r.src.begin(), r.src.end(), circ);
-       it != std::sregex_iterator(); ++it) {
-    const size_t here = static_cast<size_t>(it->position());
-    // The start: the last E6POS before this CIRC.
-    const std::string before = r.src.substr(0, here);
-    Eigen::Vector3d a;
-    for (auto jt = std::sregex_iterator(before.begin(), before.end(), any);
-         jt != std::sregex_iterator(); ++jt)
-      a = Eigen::Vector3d(std::stod((*jt)[1]), std::stod((*jt)[2]), std::stod((*jt)[3]));
-    const Eigen::Vector3d b(std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]));
-    const Eigen::Vector3d c(std::stod((*it)[4]), std::stod((*it)[5]), std::stod((*it)[6]));
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const Eigen::Vector3d centre =
-        a + ((c - a).squaredNorm() * n.cross(b - a) + (b - a).squaredNorm() * (c - a).cross(n)) /
-                (2.0 * n.squaredNorm());
-    CHECK((a - centre).norm() == Approx(12.0).margin(0.01));
-    CHECK(std::fabs(n.normalized().z()) > 1.0 - 1e-6);  // in the pocket's plane
-    ++circs;
+  // Each CIRC's circle through its printed points must have the CL arc's radius 12 mm and lie
+  // in the pocket's plane (independent of redpost).
+  const std::vector<PrintedCirc> circs = printed_circs(r.src);
+  for (const PrintedCirc& c : circs) {
+    CHECK(c.radius_mm == Approx(12.0).margin(0.01));
+    CHECK(std::fabs(c.normal.z()) > 1.0 - 1e-6);
   }
-  CHECK(circs == 8);  // every arc of the pocket
+  CHECK(circs.size() == 8);  // every arc of the pocket
   CHECK(motion_keywords(r.src).size() == r.q.size());
 
   // A chordal tolerance finer than the printed decimals cannot be proven: chords, with a note.
@@ -481,6 +500,38 @@ TEST_CASE(
   for (const std::string& w : chords.summary.warnings)
     noted = noted || w.find("written as chords, not as a CIRC") != std::string::npos;
   CHECK(noted);
+}
+
+TEST_CASE("machine: a full circle becomes two CIRCs of half a turn that close the circle",
+          "[machine]") {
+  // A full turn (the CIRCLE's GOTO back at its start, as APT writes a circle) has no circle
+  // through its start, middle and end; two CIRCs of half a turn do. Checked from the printed
+  // points: radius, plane, the half-turns, and the second one ending where the first began.
+  const std::string cl =
+      "UNITS/MM\nCUTTER/10.,0\nLOADTL/1\nSPINDL/12000,RPM,CLW\nRAPID\n"
+      "GOTO/-100,-440,110\nRAPID\nGOTO/-100,-440,62\nFEDRAT/MMPM,900\nGOTO/-100,-440,57\n"
+      "GOTO/-82,-440,57\nCIRCLE/-100,-440,57,0,0,1,18\nGOTO/-82,-440,57\n"
+      "GOTO/-100,-440,57\nRAPID\nGOTO/-100,-440,110\nFINI\n";
+  test::TempDir dir;
+  RunOptions ro;
+  ro.templates = "krc4_circ";
+  ro.arcs_as_events = true;
+  const Run r = run(cl, dir.path, ro);
+  const std::vector<PrintedCirc> circs = printed_circs(r.src);
+  REQUIRE(circs.size() == 2);
+  for (const PrintedCirc& c : circs) {
+    CHECK(c.radius_mm == Approx(18.0).margin(0.002));
+    CHECK(c.normal.z() > 1.0 - 1e-6);  // counter-clockwise about +z, as the CIRCLE's axis says
+    CHECK(c.sweep_rad == Approx(kPi).margin(0.1));  // half a turn (a chord's angle either way)
+  }
+  CHECK(circs[0].normal.dot(circs[1].normal) > 1.0 - 1e-9);  // the same way round
+  CHECK((circs[1].end - circs[0].start).norm() < 2e-3);      // back at the start
+  CHECK(circs[0].sweep_rad + circs[1].sweep_rad == Approx(2.0 * kPi).margin(1e-3));
+  CHECK(motion_keywords(r.src).size() == r.q.size());
+  // The same circle without CIRCs: chords only.
+  test::TempDir lin;
+  ro.templates = "krc4_lin";
+  CHECK(run(cl, lin.path, ro).src.find("\nCIRC ") == std::string::npos);
 }
 
 // --- the Caro cell ----------------------------------------------------------------------------
