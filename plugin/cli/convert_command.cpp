@@ -201,11 +201,15 @@ void print_timing(const rp_session* session) {
     // The controller's clock (docs/timing.md, "The interpolation cycle").
     fmt::print(
         "interpolation cycle {:g} ms: {} of {} CP motion(s) last less than a cycle at their "
-        "$VEL.CP ({:.0f} %, shortest {:.1f} ms at CL line {}); {} slowed by the motion rate, {} "
+        "$VEL.CP ({:.0f} %, shortest {:.1f} ms at CL line {}); {} slowed by the motion rate{}, {} "
         "by the look-ahead\n",
         t.interpolation_cycle_s * 1000.0, t.below_cycle_motions, t.cp_motions,
         100.0 * static_cast<double>(t.below_cycle_motions) / static_cast<double>(t.cp_motions),
         t.shortest_motion_s * 1000.0, t.shortest_motion_line, t.rate_limited_motions,
+        t.rate_slowed_motions > 0
+            ? fmt::format(" ({} written with the $VEL.CP at which they last a cycle)",
+                          t.rate_slowed_motions)
+            : std::string(),
         t.lookahead_limited_motions);
   }
   if (t.reduced_moves < t.reducible_points) {

@@ -376,13 +376,16 @@ typedef struct rp_timing {
   double interpolation_cycle_s;   /* the template set's IPO cycle (0.012 on a KR C4) */
   long cp_motions;                /* CP motions timed (LIN, CIRC, SLIN) */
   long below_cycle_motions;       /* of them, lasting less than one cycle at their $VEL.CP */
-  long rate_limited_motions;      /* of them, slowed by the motion rate (one per cycle) */
+  long rate_limited_motions;      /* kept slow by the motion rate (one per cycle): below a
+                                     cycle, or (0.8) written at it (rate_slowed_motions) */
   long lookahead_limited_motions; /* of them, slowed by the look-ahead ($ADVANCE) */
   double shortest_motion_s;       /* the shortest CP motion at its $VEL.CP (0: none) */
   int shortest_motion_line;       /* its CL line */
   /* Appended in 0.8: the point reduction (rp_options.fit_tolerance_mm). */
-  long reducible_points; /* cutting points it could merge (after a cut, within one feed) */
-  long reduced_moves;    /* the moves tracked for them (both 0 without the reduction) */
+  long reducible_points;    /* cutting points it could merge (after a cut, within one feed) */
+  long reduced_moves;       /* the moves tracked for them (both 0 without the reduction) */
+  long rate_slowed_motions; /* with the reduction: motions written with the $VEL.CP at which
+                               they last one interpolation cycle (they would last less) */
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 

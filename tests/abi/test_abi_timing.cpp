@@ -31,10 +31,12 @@ void record(const rp_motion* m, void* user) {
   static_cast<std::vector<rp_motion>*>(user)->push_back(*m);
 }
 
-rp_session* open_session(const std::string& dir, const char* name, int plan = RP_PLAN_LOCAL) {
+rp_session* open_session(const std::string& dir, const char* name, int plan = RP_PLAN_LOCAL,
+                         double fit_tolerance_mm = 0.01) {
   rp_options o;
   rp_options_init(&o);
   o.plan = plan;
+  o.fit_tolerance_mm = fit_tolerance_mm;
   o.cell_path = kCell.c_str();
   o.output_dir = dir.c_str();
   o.program_name = name;
@@ -141,7 +143,8 @@ TEST_CASE("abi timing: the cycle time, the time at the CL feeds and every motion
 }
 
 TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
-  // The pocket example with every feed at 10 000 mm/min: the track limits the feed somewhere.
+  // The pocket example with every feed at 10 000 mm/min, every CL point kept (--fit-tol 0): the
+  // track limits the feed somewhere, and most arc chords last less than a cycle.
   // (No std::regex: GCC 12 warns inside <regex> under the sanitizers, and warnings fail here.)
   std::ifstream in(kSource + "/examples/cl/pocket_arcs.apt");
   std::string fast, line;
@@ -153,13 +156,14 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
   const std::string out = dir + "/out";
   fs::create_directories(out);
 
-  rp_session* s = open_session(out, "FAST");
+  rp_session* s = open_session(out, "FAST", RP_PLAN_LOCAL, 0.0);
   convert_file(s, cl);
 
   rp_timing t{};
   t.struct_size = sizeof t;
   REQUIRE(rp_timing_get(s, &t) == RP_OK);
   CHECK(t.slowed_motions > 0);
+  CHECK(t.rate_slowed_motions == 0);  // written at the feed: the clock slows them unasked
   CHECK(t.peak_speed_fraction <= 1.0);
   REQUIRE(t.feed_limits > 0);
   REQUIRE(t.feed_limits_listed > 0);
@@ -168,9 +172,30 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
   CHECK(t.interpolation_cycle_s == 0.012);
   CHECK(t.cp_motions > 0);
   CHECK(t.below_cycle_motions <= t.cp_motions);
+  CHECK(t.below_cycle_motions > 0);
   CHECK(t.rate_limited_motions <= t.below_cycle_motions);
   CHECK(t.shortest_motion_s > 0.0);
   CHECK(t.shortest_motion_line > 0);
+
+  SECTION("with the point reduction, every motion lasts a cycle at its $VEL.CP") {
+    const std::string out_fit = dir + "/fit";
+    fs::create_directories(out_fit);
+    rp_session* f = open_session(out_fit, "FAST", RP_PLAN_LOCAL, 0.01);
+    convert_file(f, cl);
+    rp_timing r{};
+    r.struct_size = sizeof r;
+    REQUIRE(rp_timing_get(f, &r) == RP_OK);
+    rp_free(f);
+    CHECK(r.below_cycle_motions == 0);
+    CHECK(r.rate_slowed_motions > 0);
+    // The clock keeps them at the speed written: the motion rate (not an axis) limits those
+    // that reach it (the others are kept lower still by their corners).
+    CHECK(r.rate_limited_motions > 0);
+    CHECK(r.rate_limited_motions <= r.rate_slowed_motions);
+    // The same time as without the reduction, or less: the time model ran the chords at one
+    // per cycle there too.
+    CHECK(r.cutting_time_s <= t.cutting_time_s * 1.001);
+  }
 
   SECTION("every listed stretch") {
     for (int i = 0; i < t.feed_limits_listed; ++i) {
@@ -270,4 +295,8 @@ TEST_CASE("abi timing: the point reduction's defaults, bounds, counters and a 0.
   const rp_timing old = run(old_host, "FIT_07");
   CHECK(old.reduced_moves == every.reduced_moves);
   CHECK(old.cp_motions == every.cp_motions);
+  // The long pass's merged moves all last a cycle at its feed: nothing written at the motion rate.
+  CHECK(reduced.rate_slowed_motions == 0);
+  CHECK(reduced.below_cycle_motions == 0);
+  CHECK(every.rate_slowed_motions == 0);
 }

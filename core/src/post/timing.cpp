@@ -75,6 +75,13 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   ptp_velocity_fraction = c.ptp_velocity_fraction;
   ptp_acceleration_fraction = c.ptp_acceleration_fraction;
   velocity_decimals = templates.velocity_decimals;
+  // The motion rate in $VEL.CP goes with the point reduction (--fit-tol 0 writes 0.7's program),
+  // and not in SPLINE blocks, which a $VEL.CP ends and which the controller plans whole.
+  interpolation_cycle_s = c.interpolation_cycle_s;
+  rate_vel = reducer.enabled() && !templates.spline && interpolation_cycle_s > 0.0;
+  // Each printed coordinate is within half a unit of its last decimal: an end moves by at most
+  // sqrt(3) / 2 of one, the length by twice that.
+  rate_length_margin_mm = std::sqrt(3.0) * std::pow(10.0, -templates.position_decimals);
   apo_mm = o.program.apo_mm;
   summary.axis_speeds_known = cell.has_axis_speeds();
   summary.interpolation_cycle_s = c.interpolation_cycle_s;
@@ -139,6 +146,23 @@ TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T
         std::max(std::floor(cap * kSpeedMargin / 1000.0 * scale) / scale, 1.0 / scale);
     t.command_mm_s = m_per_s * 1000.0;
     t.command_joint = joint;
+  }
+  // The controller's clock: with the point reduction on, a motion that would still last less
+  // than one interpolation cycle at its speed (a short arc, a lead-in, a dense stretch the
+  // tolerance keeps) is written at the speed at which it lasts one, as the controller would run
+  // it anyway (docs/timing.md, "Point reduction"). Its length is taken short by what the printed
+  // decimals may take off both ends, so that a check from the written text finds a cycle too.
+  if (rate_vel && length_mm > 1e-6) {
+    const double printed_mm = length_mm - rate_length_margin_mm;
+    const double rate_mm_s = printed_mm / interpolation_cycle_s;
+    if (printed_mm > 0.0 && std::min(t.command_mm_s, t.orientation_cap_mm_s) > rate_mm_s) {
+      const double scale = std::pow(10.0, velocity_decimals);
+      const double m_per_s = std::max(std::floor(rate_mm_s / 1000.0 * scale) / scale, 1.0 / scale);
+      if (m_per_s * 1000.0 < t.command_mm_s) {
+        t.command_mm_s = m_per_s * 1000.0;
+        t.command_joint = TimedMotion::kMotionRate;
+      }
+    }
   }
   return t;
 }
@@ -376,6 +400,8 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
   } else if (open_slowdown) {
     close_slowdown();
   }
+  if (t.command_joint == TimedMotion::kMotionRate)
+    ++summary.rate_slowed_motions;
   const bool by_axis = cp && mt.peak_mm_s < kReportBelow * t.asked_mm_s &&
                        ((mt.joint >= 0 && (mt.limit == TimingLimit::axis_velocity ||
                                            mt.limit == TimingLimit::axis_acceleration ||

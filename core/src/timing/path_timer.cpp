@@ -334,7 +334,12 @@ void PathTimer::emit_front(std::size_t count) {
         const bool rate_binds = e.rate_cap < m.command_mm_s * kBelowCycle &&
                                 e.rate_cap < m.orientation_cap_mm_s && same(e.cruise, e.rate_cap) &&
                                 t.peak_mm_s >= e.cruise * (1.0 - 1e-6);
-        if (rate_binds) {
+        // $VEL.CP written at the motion rate (the session's, with the point reduction on): the
+        // clock's limit written into the program, which the motion reaches.
+        const bool rate_written = m.command_joint == TimedMotion::kMotionRate &&
+                                  m.command_mm_s < m.asked_mm_s && same(e.cruise, m.command_mm_s) &&
+                                  t.peak_mm_s >= e.cruise * (1.0 - 1e-6);
+        if (rate_binds || rate_written) {
           t.limit = TimingLimit::motion_rate;
         } else if (m.command_joint >= 0 && m.command_mm_s < m.asked_mm_s) {
           t.limit = TimingLimit::axis_velocity;

@@ -496,11 +496,16 @@ void add_cycle_plot(rep::HtmlReport& r, const ConvertReport::Impl& d, const rp_t
       "the {} CP motions ({:.0f} %) last less than a cycle at their $VEL.CP (the shortest {:.1f} "
       "ms, CL line {}). The time model runs them at one per cycle: {} were slowed by that motion "
       "rate, {} by the look-ahead ($ADVANCE: the planner must be able to stop within the motions "
-      "it sees).",
+      "it sees).{}",
       cycle_ms, t.below_cycle_motions, t.cp_motions,
       100.0 * static_cast<double>(t.below_cycle_motions) / static_cast<double>(t.cp_motions),
       1000.0 * t.shortest_motion_s, t.shortest_motion_line, t.rate_limited_motions,
-      t.lookahead_limited_motions);
+      t.lookahead_limited_motions,
+      t.rate_slowed_motions > 0
+          ? fmt::format(" {} motions, too short for a cycle at the feed even after the point "
+                        "reduction, are written with the $VEL.CP at which they last one.",
+                        t.rate_slowed_motions)
+          : std::string());
   if (t.below_cycle_motions > 0)
     r.add_warning(text);
   else

@@ -615,3 +615,57 @@ TEST_CASE("machine: a merged move written as its tracked steps puts every step o
   CHECK(lins < 150);
   CHECK(last_x == Approx(200.0).margin(0.001));
 }
+
+TEST_CASE(
+    "machine: with the point reduction, a small circle's chords at 10 m/min are written at the "
+    "motion rate: each lasts one 12 ms cycle at its printed $VEL.CP",
+    "[machine]") {
+  // A 3 mm circle as LIN chords (krc4_lin): 0.49 mm chords, 3 ms each at 10 m/min, which no
+  // reduction can lengthen within 0.01 mm. Checked from the printed text alone: every LIN's
+  // length between printed positions over the $VEL.CP in force is at least one cycle; the
+  // straight lead-in, long enough, keeps the feed.
+  const std::string cl =
+      "UNITS/MM\nCUTTER/6.,0\nLOADTL/1\nSPINDL/12000,RPM,CLW\nRAPID\nGOTO/-100,-440,110\n"
+      "RAPID\nGOTO/-100,-440,62\nFEDRAT/MMPM,10000\nGOTO/-100,-440,57\nGOTO/-97,-440,57\n"
+      "CIRCLE/-100,-440,57,0,0,1,3\nGOTO/-97,-440,57\nGOTO/-100,-440,57\nRAPID\n"
+      "GOTO/-100,-440,110\nFINI\n";
+  for (const double fit : {0.01, 0.0}) {
+    test::TempDir dir;
+    RunOptions ro;
+    ro.fit_tolerance_mm = fit;
+    const Run r = run(cl, dir.path, ro);
+    std::istringstream text(r.src);
+    std::string line;
+    double vel_mm_s = 0.0;
+    bool have = false;
+    Eigen::Vector3d last;
+    int short_motions = 0, lins = 0, at_feed = 0;
+    static const std::regex pos(R"(X (-?[0-9.]+), Y (-?[0-9.]+), Z (-?[0-9.]+))");
+    while (std::getline(text, line)) {
+      if (line.rfind("$VEL.CP = ", 0) == 0)
+        vel_mm_s = 1000.0 * std::stod(line.substr(10));
+      std::smatch m;
+      if (line.rfind("LIN ", 0) != 0 || !std::regex_search(line, m, pos))
+        continue;
+      const Eigen::Vector3d p(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
+      if (have && (p - last).norm() > 1e-6 && vel_mm_s < 200.0) {  // the cutting LINs
+        ++lins;
+        short_motions += (p - last).norm() / vel_mm_s < 0.012 * (1.0 - 1e-4) ? 1 : 0;
+        at_feed += std::fabs(vel_mm_s - 10000.0 / 60.0) < 1e-3 ? 1 : 0;
+      }
+      last = p;
+      have = true;
+    }
+    INFO("fit-tol " << fit << ", " << r.summary.slowed_motions << " lowered for an axis");
+    CHECK(lins > 30);
+    if (fit > 0.0) {
+      CHECK(short_motions == 0);
+      CHECK(at_feed >= 2);  // the lead-in and the way back to the centre
+      CHECK(r.summary.rate_slowed_motions + r.summary.slowed_motions == lins - at_feed);
+      CHECK(r.summary.below_cycle_motions == 0);
+    } else {
+      CHECK(short_motions > 20);  // 0.7's program: the chords at the feed
+      CHECK(r.summary.rate_slowed_motions == 0);
+    }
+  }
+}

@@ -203,7 +203,7 @@ struct PostSummary {
   double cutting_time_s = 0.0;       // the motions at a CL feed, as the controller runs them
   double feed_time_s = 0.0;          // the same motions at exactly the feed the CL file asks
   bool axis_speeds_known = false;    // the cell gives its axes' speeds (else they limit nothing)
-  long slowed_motions = 0;           // motions written with a $VEL.CP below the asked speed
+  long slowed_motions = 0;           // motions written with a lower $VEL.CP (an axis's limit)
   double peak_speed_fraction = 0.0;  // the largest fraction of a velocity limit any axis reaches
   int peak_speed_joint = -1;
   int peak_speed_line = 0;
@@ -214,7 +214,8 @@ struct PostSummary {
   double interpolation_cycle_s = 0.0;  // the template set's
   long cp_motions = 0;                 // CP motions timed (LIN, CIRC, SLIN)
   long below_cycle_motions = 0;        // of them, lasting less than one cycle at their $VEL.CP
-  long rate_limited_motions = 0;       // of them, slowed by the motion rate (one per cycle)
+  long rate_limited_motions = 0;       // CP motions kept slow by the motion rate (one per cycle):
+                                       // below a cycle, or written at it (rate_slowed_motions)
   long lookahead_limited_motions = 0;  // of them, slowed by the look-ahead ($ADVANCE)
   double shortest_motion_s = 0.0;      // the shortest CP motion at its $VEL.CP (0: none)
   int shortest_motion_line = 0;        // its CL line
@@ -222,6 +223,9 @@ struct PostSummary {
   // moves tracked for them (both 0 without the reduction).
   long reducible_points = 0;
   long reduced_moves = 0;
+  // With the reduction on, the motions that even so would last less than one cycle at the feed,
+  // written with the $VEL.CP at which they last one (docs/timing.md, "Point reduction").
+  long rate_slowed_motions = 0;
 
   // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
   long plan_windows = 0;           // windows planned

@@ -78,7 +78,9 @@ struct TimedMotion {
   bool at_feed = false;        // a cutting motion at a CL feed (not a rapid)
   double asked_mm_s = 0.0;     // what the CL file asked (its feed, or the rapid speed)
   double command_mm_s = 0.0;   // $VEL.CP as written (<= asked; lower where an axis limits it)
-  int command_joint = -1;      // the joint whose velocity limit lowered $VEL.CP, -1: none
+  int command_joint = -1;      // the joint whose velocity limit lowered $VEL.CP, -1: none,
+                               // kMotionRate: lowered so that the motion lasts one IPO cycle
+  static constexpr int kMotionRate = -2;
   double orientation_cap_mm_s = std::numeric_limits<double>::infinity();
   // The rate of every joint along the path, dq/dS (rad or mm per mm), the largest over the
   // motion in magnitude (for the limits) and the chord's (signed, for the corners).
