@@ -213,10 +213,12 @@ void print_timing(const rp_session* session) {
         t.lookahead_limited_motions);
   }
   if (t.reduced_moves < t.reducible_points) {
-    fmt::print("point reduction: {} cutting point(s) tracked as {} move(s) ({:.1f} x fewer)\n",
-               t.reducible_points, t.reduced_moves,
-               static_cast<double>(t.reducible_points) /
-                   static_cast<double>(std::max(t.reduced_moves, 1L)));
+    fmt::print(
+        "point reduction: {} cutting point(s) tracked as {} move(s) ({:.1f} x fewer){}\n",
+        t.reducible_points, t.reduced_moves,
+        static_cast<double>(t.reducible_points) /
+            static_cast<double>(std::max(t.reduced_moves, 1L)),
+        t.reduced_arcs > 0 ? fmt::format(", {} of them arcs", t.reduced_arcs) : std::string());
   }
   if (t.plan_windows > 0) {
     fmt::print("whole-path plan: {} window(s), {} tracked pose by pose, {} IK solutions\n",

@@ -386,6 +386,8 @@ typedef struct rp_timing {
   long reduced_moves;       /* the moves tracked for them (both 0 without the reduction) */
   long rate_slowed_motions; /* with the reduction: motions written with the $VEL.CP at which
                                they last one interpolation cycle (they would last less) */
+  long reduced_arcs;        /* of reduced_moves, arcs fitted through the points (a set with
+                               CIRC; each a CIRC where it is proven, else its chords) */
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 

@@ -501,6 +501,7 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.reducible_points = s.reducible_points;
     out.reduced_moves = s.reduced_moves;
     out.rate_slowed_motions = s.rate_slowed_motions;
+    out.reduced_arcs = s.reduced_arcs;
     copy_sized(timing, out);
   });
 }

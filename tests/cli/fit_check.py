@@ -77,8 +77,9 @@ def pose(values):
     return p, quat(rotation(values["A"], values["B"], values["C"]))
 
 
-def circle_points(a, b, c, n=64):
-    """n + 1 points of the arc from a through b to c (the circle through the three points)."""
+def circle_points(a, b, c, sagitta_mm=1e-4):
+    """Points of the arc from a through b to c (the circle through the three points), close
+    enough that the chords between them stay within sagitta_mm of the arc."""
     ab = [b[i] - a[i] for i in range(3)]
     ac = [c[i] - a[i] for i in range(3)]
     def cross(u, v):
@@ -97,6 +98,7 @@ def circle_points(a, b, c, n=64):
     d = [c[i] - centre[i] for i in range(3)]
     sweep = math.atan2(sum(d[i] * v[i] for i in range(3)), sum(d[i] * u[i] for i in range(3)))
     sweep = sweep if sweep > 0 else sweep + 2 * math.pi
+    n = max(16, min(100000, math.ceil(sweep / (2 * math.acos(max(-1.0, 1 - sagitta_mm / r))))))
     return [tuple(centre[i] + r * (math.cos(sweep * k / n) * u[i] + math.sin(sweep * k / n) * v[i])
                   for i in range(3)) for k in range(n + 1)]
 
@@ -116,11 +118,14 @@ def stretches(src):
         if m:
             cur.append(pose(aggregate(m.group(2))))
             continue
-        m = re.match(r"^(CIRC|SCIRC)\s*\{E6POS:(.*?)\}\s*,\s*\{E6POS:(.*?)\}", code)
+        # The auxiliary point as redpost writes it ({X, Y, Z}: the controller takes its position
+        # only) or as a full E6POS.
+        m = re.match(r"^(CIRC|SCIRC)\s*\{(?:E6POS:|POS:)?(.*?)\}\s*,\s*\{E6POS:(.*?)\}", code)
         if m and cur:
-            aux, end = pose(aggregate(m.group(2))), pose(aggregate(m.group(3)))
+            a = aggregate(m.group(2))
+            aux_p, end = (a["X"], a["Y"], a["Z"]), pose(aggregate(m.group(3)))
             start = cur[-1]
-            pts = circle_points(start[0], aux[0], end[0])
+            pts = circle_points(start[0], aux_p, end[0])
             for k, p in enumerate(pts[1:], 1):
                 cur.append((p, slerp(start[1], end[1], k / (len(pts) - 1))))
     if cur:

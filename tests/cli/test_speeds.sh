@@ -110,6 +110,7 @@ for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
   name=fastfit_$(basename "$f")
   fast "$f" "$TMP/$name.cl"
   fit "$name" "$TMP/$name.cl"
+  fit "${name}_circ" "$TMP/$name.cl" --krl krc4_circ
 done
 # The raster is reduced (its points are 0.5 mm apart: 3 ms at 10 m/min), and then runs at its
 # feed: no motion shorter than the 12 ms cycle.
@@ -263,6 +264,8 @@ for f in "$eval_dir"/apt/*.apt "$eval_dir"/clsf/*; do
   if grep -q FEDRAT "$f"; then
     fast "$f" "$TMP/fast_$name"
     fit "evalfast_$name" "$TMP/fast_$name" "${opts[@]}"
+    # With CIRC: arcs fitted through the CL points, each CIRC's circle recomputed from the text.
+    fit "evalfastcirc_$name" "$TMP/fast_$name" "${opts[@]}" --krl krc4_circ
   fi
 done
 passed

@@ -47,6 +47,7 @@ struct ArcChords {
   double h0 = 0.0, h1 = 0.0;                        // height along the axis at start and end
   double sweep_rad = 0.0;
   long chords = 1;
+  double tolerance_mm = 0.0;  // the chordal tolerance the chords keep (and a CIRC of it must)
 
   // End of chord k (1..chords); the last one is `end` exactly.
   Eigen::Vector3d point(long k) const {
@@ -183,6 +184,7 @@ inline ArcBuild make_arc_chords(const Eigen::Vector3d& start, const Eigen::Vecto
   arc.h1 = h1;
   arc.sweep_rad = sweep;
   arc.chords = static_cast<long>(chords);
+  arc.tolerance_mm = chordal_tolerance_mm;
   return b;
 }
 

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "redpost/kinematics/circle.hpp"
 #include "redpost/kinematics/tool_axis.hpp"
 
 namespace redpost {
@@ -194,14 +195,132 @@ bool PointReducer::covers(const ClEvent& end) const {
   return true;
 }
 
+bool PointReducer::fits_arc(const ClEvent& end, Eigen::Vector3d& centre,
+                            Eigen::Vector3d& normal) const {
+  // The circle through the anchor, the middle point of the run (end included) and the end.
+  const std::size_t n = run_.size() + 1;
+  const std::size_t m = n / 2;  // 1-based among the n points; n >= 2, so m is a run point
+  Circle c;
+  if (!circle_through(anchor_p_, run_[m - 1].p_mm, end.p_mm, c))
+    return false;
+  if (!(c.radius >= kMinArcRadiusMm && c.radius <= kMaxArcRadiusMm) || c.sweep > kMaxArcSweepRad)
+    return false;
+  const double tol = 0.5 * o_.tolerance_mm;
+  const double sin_axis = std::sin(axis_tolerance_rad_);
+  double last_phi = 0.0;
+  // In order along the circle, on it, each chord of the CL polyline close to it, the tool axis
+  // the anchor's.
+  const auto on_arc = [&](const ClEvent& p) {
+    const Eigen::Vector3d rel = p.p_mm - c.centre;
+    const double h = rel.dot(c.normal);
+    const Eigen::Vector3d in_plane = rel - h * c.normal;
+    if (!(std::hypot(h, in_plane.norm() - c.radius) <= tol))
+      return false;
+    double phi = std::atan2(in_plane.dot(c.v), in_plane.dot(c.u));
+    if (phi <= 0.0)
+      phi += 2.0 * kPi;
+    if (!(phi > last_phi && phi <= c.sweep + 1e-9))
+      return false;
+    // The sagitta of the chord from the point before: the circle within tol of the polyline.
+    if (!(c.radius * (1.0 - std::cos(0.5 * (phi - last_phi))) <= tol))
+      return false;
+    last_phi = phi;
+    const Eigen::Vector3d axis = p.tool_axis.normalized();
+    return anchor_axis_.cross(axis).norm() <= sin_axis && anchor_axis_.dot(axis) > 0.0;
+  };
+  for (const ClEvent& p : run_) {
+    if (!on_arc(p))
+      return false;
+  }
+  if (!on_arc(end))
+    return false;
+  centre = c.centre;
+  normal = c.normal;
+  return true;
+}
+
 void PointReducer::add_point(const ClEvent& e) {
   ++moves_in_;
-  if (!run_.empty() && (static_cast<int>(run_.size()) >= o_.max_points || !covers(e)))
+  extend(e);
+}
+
+// One more point for the run: the run goes on as a line or an arc, or ends before the point.
+void PointReducer::extend(const ClEvent& e) {
+  if (run_.empty()) {
+    run_.push_back(e);
+    return;
+  }
+  const bool full = static_cast<int>(run_.size()) >= o_.max_points;
+  Eigen::Vector3d centre, normal;
+  if (arc_) {
+    if (!full && fits_arc(e, centre, normal)) {
+      arc_centre_ = centre;
+      arc_normal_ = normal;
+      run_.push_back(e);
+      return;
+    }
+    if (static_cast<int>(run_.size()) >= kMinArcPoints) {
+      flush_arc();
+    } else {
+      replay_as_lines();  // too few points to prove the circle: lines after all
+      extend(e);
+      return;
+    }
+  } else if (!full && covers(e)) {
+    run_.push_back(e);
+    return;
+  } else if (!full && o_.arcs && fits_arc(e, centre, normal)) {
+    // No line covers the run with e: an arc may (proven once it has kMinArcPoints points).
+    arc_ = true;
+    arc_centre_ = centre;
+    arc_normal_ = normal;
+    run_.push_back(e);
+    return;
+  } else {
     flush();
+  }
   run_.push_back(e);
 }
 
+void PointReducer::replay_as_lines() {
+  arc_ = false;
+  replay_.clear();
+  replay_.swap(run_);
+  const bool arcs = o_.arcs;
+  o_.arcs = false;
+  for (const ClEvent& p : replay_)
+    extend(p);
+  o_.arcs = arcs;
+  replay_.clear();
+}
+
+void PointReducer::flush_arc() {
+  ClEvent end = std::move(run_.back());
+  end.first_line = run_.front().first_line > 0 ? run_.front().first_line : run_.front().line;
+  end.kind = ClEventKind::arc;
+  end.origin = MoveOrigin::fitted_arc;
+  end.arc_centre_mm = arc_centre_;
+  end.arc_axis = arc_normal_;
+  end.value = (anchor_p_ - arc_centre_).norm();
+  // One tool axis along the arc, the start's: every point's is within half the angular
+  // tolerance of it.
+  end.tool_axis = anchor_axis_;
+  anchor_p_ = end.p_mm;
+  out_.push_back(std::move(end));
+  ++moves_out_;
+  ++arcs_out_;
+  run_.clear();
+  arc_ = false;
+}
+
 void PointReducer::flush() {
+  if (arc_) {
+    if (static_cast<int>(run_.size()) >= kMinArcPoints) {
+      flush_arc();
+      return;
+    }
+    replay_as_lines();
+  }
   if (run_.empty())
     return;
   ClEvent& end = run_.back();

@@ -96,7 +96,7 @@ bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector&
     const Eigen::Vector3d rel = p_cl - arc.centre;
     const double h = rel.dot(arc.axis) - arc.h0;
     const double radial = (rel - rel.dot(arc.axis) * arc.axis).norm() - arc.r0;
-    if (std::hypot(h, radial) > o.chordal_tolerance_mm) {
+    if (std::hypot(h, radial) > arc.tolerance_mm) {
       why = fmt::format("the controller's circle leaves the CL arc by {:.4f} mm",
                         std::hypot(h, radial));
       return false;

@@ -498,7 +498,8 @@ void PostSession::Impl::remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Ve
 
 void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
                                       double radius_mm, const Eigen::Vector3d& p_mm,
-                                      const Eigen::Vector3d& tool_axis, int cl_line) {
+                                      const Eigen::Vector3d& tool_axis, int cl_line,
+                                      double chordal_tolerance_mm) {
   const SourceLocation at{o.source_name, cl_line, 0};
   if (!centre.allFinite() || !axis.allFinite() || !std::isfinite(radius_mm) || !p_mm.allFinite() ||
       !tool_axis.allFinite()) {
@@ -529,7 +530,7 @@ void PostSession::Impl::circular_move(const Eigen::Vector3d& centre, const Eigen
   wording.radius_from = "the circular move";
   const detail::ArcBuild built =
       detail::make_arc_chords(last_cl_point, centre, axis / norm, radius_mm, p_mm,
-                              o.arc_point_tolerance_mm, o.chordal_tolerance_mm, wording);
+                              o.arc_point_tolerance_mm, chordal_tolerance_mm, wording);
   if (built.problem != detail::ArcProblem::none)
     throw Error(ErrorCode::bad_input, built.message, at);
   // Every chord of a rapid arc is rapid, as the reader marks them.

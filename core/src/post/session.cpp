@@ -44,6 +44,14 @@ ClExpanderOptions expander_options(const PostOptions& o) {
   return e;
 }
 
+// The reduction fits arcs where the writer may write a CIRC (each one proven there, circ.cpp):
+// a set with CIRC, and no deflection model (which gives every chord its own load and target).
+PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& writer) {
+  PointReductionOptions r = o.reduction;
+  r.arcs = writer.has_circ() && o.deflection == DeflectionMode::off;
+  return r;
+}
+
 }  // namespace
 
 PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options)
@@ -57,7 +65,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
             [this](const std::string& w) { summary.warnings.push_back(w); }),
-      reducer(options.reduction) {
+      reducer(reduction_for(options, writer)) {
   if (const std::string why = point_reduction_problem(o.reduction); !why.empty())
     throw Error(ErrorCode::bad_input, why);
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
@@ -259,7 +267,14 @@ void PostSession::route(const ClEvent& e) {
         return;
       if (e.rapid)
         rapid();
-      circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line);
+      // An arc the point reduction fitted through CL points keeps half its tolerance (the
+      // points are within the other half of the circle); a CIRCLE the chordal tolerance.
+      impl_->move_first_line = e.first_line;
+      impl_->circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line,
+                           e.origin == MoveOrigin::fitted_arc
+                               ? 0.5 * impl_->o.reduction.tolerance_mm
+                               : impl_->o.chordal_tolerance_mm);
+      impl_->move_first_line = 0;
       break;
     case ClEventKind::machine_frame:
       machine_frame(e.tool_axis, e.flag, e.line);
@@ -411,7 +426,8 @@ void PostSession::circular_move(const Eigen::Vector3d& centre, const Eigen::Vect
   e.line = cl_line;
   if (defer(e))
     return;
-  impl_->circular_move(centre, axis, radius_mm, p_mm, tool_axis, cl_line);
+  impl_->circular_move(centre, axis, radius_mm, p_mm, tool_axis, cl_line,
+                       impl_->o.chordal_tolerance_mm);
 }
 
 void PostSession::coolant(bool on, const std::string& mode) {
@@ -487,6 +503,7 @@ const PostSummary& PostSession::prepare() {
     route(r);
   m.summary.reducible_points = m.reducer.moves_in();
   m.summary.reduced_moves = m.reducer.moves_out();
+  m.summary.reduced_arcs = m.reducer.arcs_out();
   pump(true);
   if (!m.started) {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",

@@ -213,8 +213,10 @@ struct PostSession::Impl {
   bool ptp_stays_above(const JointVector& q0, const JointVector& q1, const ClearancePlane& plane);
   std::optional<ClearancePlane> plane_for(const ClearancePlane* cycle) const;
   void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis);
+  // chordal_tolerance_mm: the arc's chords, and the controller's circle, keep within it.
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
-                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line);
+                     const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line,
+                     double chordal_tolerance_mm);
 
   // --- deflection.cpp ------------------------------------------------------------------------
   bool deflection_on() const { return o.deflection != DeflectionMode::off; }

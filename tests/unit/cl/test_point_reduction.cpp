@@ -3,6 +3,7 @@
 // tolerance of the great circle (recomputed here by Rodrigues' formula, not the library's slerp),
 // the output a subset of the input in order, nothing merged across an event, each merge as long
 // as the tolerance allows (greedy), and tolerance 0 the identity.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -311,4 +312,163 @@ TEST_CASE("point reduction: rapids, cycle moves, arcs and approaches are kept, a
   CHECK(out.size() == 12);
   CHECK(out.back().line == 32);
   CHECK(out.back().first_line == 12);
+}
+
+namespace {
+
+// Distance from p to the circle (centre c, unit normal n, radius r) in space: the closed form
+// through the point's height over the plane and its distance from the axis.
+double circle_distance(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double r,
+                       const Eigen::Vector3d& p) {
+  const Eigen::Vector3d rel = p - c;
+  const double h = rel.dot(n);
+  return std::hypot(h, (rel - h * n).norm() - r);
+}
+
+// Points on a circle arc (centre c, in the plane with unit normal n, from direction u by `sweep`
+// in `count` steps), each moved by up to `noise_mm`, one tool axis.
+std::vector<ClEvent> arc_points(std::mt19937_64& rng, const Eigen::Vector3d& c,
+                                const Eigen::Vector3d& n, const Eigen::Vector3d& u, double r,
+                                double sweep, int count, double noise_mm, int first_line) {
+  std::uniform_real_distribution<double> s(-1.0, 1.0);
+  const Eigen::Vector3d v = n.cross(u);
+  std::vector<ClEvent> out;
+  for (int k = 0; k <= count; ++k) {
+    const double phi = sweep * k / count;
+    const Eigen::Vector3d jitter = noise_mm * Eigen::Vector3d(s(rng), s(rng), s(rng)) / 1.8;
+    out.push_back(goto_at(
+        first_line + k,
+        c + r * (std::cos(phi) * u + std::sin(phi) * v) + (k ? jitter : Eigen::Vector3d::Zero()),
+        Eigen::Vector3d(0.0, 0.0, 1.0)));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("point reduction: CL points on a circle become arcs that keep every point (brute force)",
+          "[cl][point_reduction]") {
+  std::mt19937_64 rng(3012);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  long arcs = 0, points = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    PointReductionOptions o;
+    o.tolerance_mm = 0.005 + 0.03 * u(rng);
+    o.arcs = true;
+    const double r = 0.5 + 40.0 * u(rng);
+    const double sweep = 0.3 + 4.0 * u(rng);
+    // Points closer than a line could merge: the chord a line covers is sqrt(8 r tol).
+    const int count = 4 + static_cast<int>(sweep * r / (0.3 * std::sqrt(8.0 * r * o.tolerance_mm)));
+    const Eigen::Vector3d n = Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, 1.0).normalized();
+    const Eigen::Vector3d axis_u = n.unitOrthogonal();
+    const Eigen::Vector3d c(100.0 * u(rng), -50.0 * u(rng), 20.0 * u(rng));
+    const std::vector<ClEvent> in =
+        arc_points(rng, c, n, axis_u, r, sweep, count, 0.2 * o.tolerance_mm, 1);
+    const std::vector<ClEvent> out = reduce(in, o);
+    INFO("trial " << trial << ": r " << r << " mm, sweep " << sweep << " rad, " << count
+                  << " points, tolerance " << o.tolerance_mm);
+    REQUIRE(out.front().line == 1);
+    REQUIRE(out.back().line == in.back().line);
+    std::size_t prev = 0;
+    for (std::size_t k = 1; k < out.size(); ++k) {
+      const ClEvent& e = out[k];
+      const std::size_t i = static_cast<std::size_t>(e.line - 1);
+      REQUIRE(i > prev);
+      REQUIRE(e.p_mm == in[i].p_mm);
+      if (e.kind == ClEventKind::arc) {
+        ++arcs;
+        CHECK(e.origin == MoveOrigin::fitted_arc);
+        CHECK(e.first_line == in[prev + 1].line);
+        CHECK(static_cast<int>(i - prev) >= kMinArcPoints);
+        // The arc event's circle: through its start (the point before) and end, and every point
+        // it covers within half the tolerance; its axis the right-hand rule's of the travel.
+        const double radius = e.value;
+        CHECK(circle_distance(e.arc_centre_mm, e.arc_axis, radius, in[prev].p_mm) < 1e-9);
+        CHECK(circle_distance(e.arc_centre_mm, e.arc_axis, radius, e.p_mm) < 1e-6);
+        for (std::size_t j = prev + 1; j < i; ++j) {
+          CHECK(circle_distance(e.arc_centre_mm, e.arc_axis, radius, in[j].p_mm) <=
+                0.5 * o.tolerance_mm + 1e-12);
+        }
+        CHECK(e.arc_axis.dot(n) > 0.99);  // counter-clockwise about n, as the points go
+        // Between the points: the arc, sampled finely from its start to its end, within the
+        // tolerance of the CL polyline it replaces.
+        const Eigen::Vector3d a0 = in[prev].p_mm - e.arc_centre_mm;
+        const Eigen::Vector3d a1 = e.p_mm - e.arc_centre_mm;
+        const Eigen::Vector3d av = e.arc_axis.cross(a0).normalized() * radius;
+        double sweep_fit = std::atan2(a1.dot(av.normalized()), a1.dot(a0.normalized()));
+        if (sweep_fit <= 0.0)
+          sweep_fit += 2.0 * 3.14159265358979323846;
+        double worst = 0.0;
+        for (int k2 = 0; k2 <= 400; ++k2) {
+          const double phi = sweep_fit * k2 / 400.0;
+          const Eigen::Vector3d q = e.arc_centre_mm + std::cos(phi) * a0 + std::sin(phi) * av;
+          double d = 1e9;
+          for (std::size_t j = prev; j < i; ++j) {
+            const Eigen::Vector3d seg = in[j + 1].p_mm - in[j].p_mm;
+            const double t = std::clamp((q - in[j].p_mm).dot(seg) / seg.squaredNorm(), 0.0, 1.0);
+            d = std::min(d, (q - in[j].p_mm - t * seg).norm());
+          }
+          worst = std::max(worst, d);
+        }
+        CHECK(worst <= o.tolerance_mm + 1e-9);
+      } else {
+        REQUIRE(e.kind == ClEventKind::move);
+        const std::vector<ClEvent> dropped(in.begin() + prev + 1, in.begin() + i);
+        CHECK(worst_between(in[prev], in[i], dropped).first <= o.tolerance_mm + 1e-12);
+      }
+      prev = i;
+    }
+    points += count;
+  }
+  // Not a toy: most of the points are in arcs, far fewer motions than points.
+  CHECK(arcs >= 60);
+  CHECK(arcs * 8 < points);
+}
+
+TEST_CASE("point reduction: a corner, a line and a short bend never become arcs",
+          "[cl][point_reduction]") {
+  PointReductionOptions o;
+  o.tolerance_mm = 0.01;
+  o.arcs = true;
+  const Eigen::Vector3d z(0.0, 0.0, 1.0);
+  // A square corner of 0.5 mm steps: two lines meeting at 90 deg.
+  std::vector<ClEvent> corner;
+  for (int k = 0; k <= 10; ++k)
+    corner.push_back(goto_at(k + 1, {0.5 * k, 0.0, 0.0}, z));
+  for (int k = 1; k <= 10; ++k)
+    corner.push_back(goto_at(11 + k, {5.0, 0.5 * k, 0.0}, z));
+  // The first move (an approach) and the one after it are kept; then a line to the corner and
+  // one from it.
+  std::vector<ClEvent> out = reduce(corner, o);
+  REQUIRE(out.size() == 4);
+  for (const ClEvent& e : out)
+    CHECK(e.kind == ClEventKind::move);
+  CHECK(out[2].line == 11);
+  CHECK(out[3].line == 21);
+  // Three points on a circle prove nothing: fewer than kMinArcPoints stay lines.
+  const std::vector<ClEvent> bend = {goto_at(1, {0, 0, 0}, z), goto_at(2, {1, 0.2, 0}, z),
+                                     goto_at(3, {2, 0.6, 0}, z), goto_at(4, {3, 1.2, 0}, z)};
+  out = reduce(bend, o);
+  for (const ClEvent& e : out)
+    CHECK(e.kind == ClEventKind::move);
+  CHECK(out.size() == 4);
+  // A circle whose tool axis turns by more than half the angular tolerance (0.05 deg) from one
+  // point to the next is no arc.
+  std::mt19937_64 rng(1);
+  std::vector<ClEvent> turning = arc_points(rng, {0, 0, 0}, z, {1, 0, 0}, 10.0, 1.0, 40, 0.0, 1);
+  for (std::size_t k = 0; k < turning.size(); ++k) {
+    const double t = 0.06 * static_cast<double>(k) * kDegToRad;
+    turning[k].tool_axis = Eigen::Vector3d(std::sin(t), 0.0, std::cos(t));
+  }
+  out = reduce(turning, o);
+  int arcs = 0;
+  for (const ClEvent& e : out)
+    arcs += e.kind == ClEventKind::arc ? 1 : 0;
+  CHECK(arcs == 0);
+  // Without `arcs` (a set with no CIRC) the circle is lines.
+  o.arcs = false;
+  out = reduce(arc_points(rng, {0, 0, 0}, z, {1, 0, 0}, 10.0, 1.0, 40, 0.0, 1), o);
+  for (const ClEvent& e : out)
+    CHECK(e.kind == ClEventKind::move);
+  CHECK(out.size() > 5);
 }

@@ -669,3 +669,53 @@ TEST_CASE(
     }
   }
 }
+
+TEST_CASE(
+    "machine: CL points on a circle become CIRCs with the point reduction, and every point lies "
+    "on the circle through the printed points",
+    "[machine]") {
+  // A CAM circle as GOTOs (no CIRCLE record): 3/4 of a 9 mm circle in 0.15 mm steps, then a
+  // straight exit. krc4_circ writes arcs; from the printed text alone, every CL point must lie
+  // within 0.01 mm (and the printed decimals) of a written CIRC's circle or LIN.
+  std::string cl =
+      "UNITS/MM\nCUTTER/6.,0\nLOADTL/1\nSPINDL/12000,RPM,CLW\nRAPID\nGOTO/-91,-440,110\n"
+      "RAPID\nGOTO/-91,-440,62\nFEDRAT/MMPM,6000\nGOTO/-91,-440,57\n";
+  std::vector<Eigen::Vector3d> points;
+  const int steps = static_cast<int>(1.5 * kPi * 9.0 / 0.15);
+  for (int k = 1; k <= steps; ++k) {
+    const double phi = 1.5 * kPi * k / steps;
+    points.emplace_back(-100.0 + 9.0 * std::cos(phi), -440.0 + 9.0 * std::sin(phi), 57.0);
+    cl += fmt::format("GOTO/{:.4f},{:.4f},57\n", points.back().x(), points.back().y());
+  }
+  cl += "GOTO/-80,-449,57\nRAPID\nGOTO/-80,-449,110\nFINI\n";
+  for (const char* set : {"krc4_circ", "krc4_lin"}) {
+    test::TempDir dir;
+    RunOptions ro;
+    ro.templates = set;
+    ro.fit_tolerance_mm = 0.01;
+    const Run r = run(cl, dir.path, ro);
+    const std::vector<PrintedCirc> circs = printed_circs(r.src);
+    INFO(set);
+    if (std::string(set) == "krc4_lin") {
+      CHECK(circs.empty());
+      continue;
+    }
+    REQUIRE(!circs.empty());
+    CHECK(motion_keywords(r.src).size() < 20);  // 140 points as a few CIRCs
+    // Every CL point on the arc within the tolerance of some written circle (its own arc).
+    int on = 0;
+    for (const Eigen::Vector3d& p : points) {
+      for (const PrintedCirc& c : circs) {
+        const Eigen::Vector3d rel = p - c.centre;
+        const double h = rel.dot(c.normal);
+        if (std::hypot(h, (rel - h * c.normal).norm() - c.radius_mm) <= 0.011) {
+          ++on;
+          break;
+        }
+      }
+    }
+    CHECK(on == static_cast<int>(points.size()));
+    for (const PrintedCirc& c : circs)
+      CHECK(c.radius_mm == Approx(9.0).margin(0.01));
+  }
+}

@@ -60,7 +60,9 @@ enum class SpindleDirection { clockwise, counter_clockwise, off };
 
 // Where a move came from. A goto_point while a drilling cycle is on is a hole of it; a FROM or
 // a GODLTA (delta) there is refused.
-enum class MoveOrigin { goto_point, from_point, arc, nurbs, cycle, delta };
+// fitted_arc: an arc event the point reduction made of CL points that lie on a circle
+// (cl/point_reduction.hpp); its chords keep half the reduction's tolerance.
+enum class MoveOrigin { goto_point, from_point, arc, nurbs, cycle, delta, fitted_arc };
 
 // The longest dwell accepted (s): a longer one is a typo (a value in milliseconds, or
 // revolutions), and the spindle would run for minutes at the hole's bottom.

@@ -18,6 +18,14 @@
 // ends a run, and a rapid, a cycle's move, an arc, the first move after a tool change or an MSYS,
 // and the move after each of these are kept as they are. Memory is bounded (`max_points`), whatever
 // the length of the file.
+//
+// With `arcs` (a template set with CIRC), a run that no one line covers but that lies on a circle
+// becomes one arc event (origin fitted_arc) instead: every point within half the tolerance of
+// the circle through the run's start, middle and end, in order along it, each chord of the CL
+// polyline within that half too, every tool axis the start's within half the angular tolerance,
+// at least kMinArcPoints points and at most kMaxArcSweepRad of turn. The other half of the
+// tolerance is for the session: the circle the controller draws through the printed points, or
+// the chords it writes where the CIRC cannot be proven.
 #pragma once
 
 #include <cstddef>
@@ -34,7 +42,17 @@ struct PointReductionOptions {
   double tolerance_mm = 0.0;        // 0: off, every event passes unchanged
   double axis_tolerance_deg = 0.1;  // of the tool axis
   int max_points = 100;             // CL points one merged move may cover at most
+  bool arcs = false;                // runs on a circle become arcs (a writer with CIRC)
 };
+
+// An arc covers at least this many CL points (so that two of them check the circle its start,
+// middle and end define), and turns by at most this much (a CIRC near a full turn is ill-defined
+// by its three points).
+inline constexpr int kMinArcPoints = 4;
+inline constexpr double kMaxArcSweepRad = 1.5 * 3.14159265358979323846;
+// Radii an arc may have (mm): below, a corner; above, a line within any tolerance.
+inline constexpr double kMinArcRadiusMm = 0.1;
+inline constexpr double kMaxArcRadiusMm = 1e5;
 
 // The tightest and loosest tolerances accepted (mm, deg): below 1 um the reduction can only
 // drop collinear points; above 1 mm (or 5 deg) it would cut another part.
@@ -76,11 +94,18 @@ class PointReducer {
   double controller_axis_budget_rad() const { return axis_tolerance_rad_; }
   long moves_in() const { return moves_in_; }    // cutting GOTOs that could be merged
   long moves_out() const { return moves_out_; }  // ... and the moves written for them
+  long arcs_out() const { return arcs_out_; }    // ... of which arcs
 
  private:
   void add_point(const ClEvent& e);
+  void extend(const ClEvent& e);
   bool covers(const ClEvent& end) const;  // the line anchor -> end covers every point of the run
+  // The circle anchor -> middle -> end covers every point of the run and `end` (the class
+  // comment's rules); fills the arc event's centre and axis.
+  bool fits_arc(const ClEvent& end, Eigen::Vector3d& centre, Eigen::Vector3d& normal) const;
   void flush();
+  void flush_arc();
+  void replay_as_lines();       // an arc that never had its points: the run as lines after all
   void pass(const ClEvent& e);  // out at once, after the run
 
   PointReductionOptions o_;
@@ -94,7 +119,12 @@ class PointReducer {
   bool next_rapid_ = false;
   bool keep_next_ = false;  // the next move is kept (after a rapid, an approach, a cycle's move)
   double feed_ = std::numeric_limits<double>::quiet_NaN();
-  long moves_in_ = 0, moves_out_ = 0;
+  long moves_in_ = 0, moves_out_ = 0, arcs_out_ = 0;
+  // The run is an arc (no line covers it): proven once it has kMinArcPoints points.
+  bool arc_ = false;
+  Eigen::Vector3d arc_centre_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d arc_normal_ = Eigen::Vector3d::UnitZ();
+  std::vector<ClEvent> replay_;  // replay_as_lines' scratch
 };
 
 }  // namespace redpost

@@ -223,6 +223,7 @@ struct PostSummary {
   // moves tracked for them (both 0 without the reduction).
   long reducible_points = 0;
   long reduced_moves = 0;
+  long reduced_arcs = 0;  // of the moves, arcs fitted through the points (a set with CIRC)
   // With the reduction on, the motions that even so would last less than one cycle at the feed,
   // written with the $VEL.CP at which they last one (docs/timing.md, "Point reduction").
   long rate_slowed_motions = 0;
