@@ -59,7 +59,7 @@ Isometry PostSession::Impl::physical_tcp_fk(const JointVector& q) {
 
 bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector& q1,
                                        const detail::ArcChords& arc, JointVector& peak_rate,
-                                       std::string& why) {
+                                       std::string& why, MotionEnds* ends) {
   const ArmIk* ik = arm_ik_for_active(why);
   if (!ik)
     return false;
@@ -108,8 +108,25 @@ bool PostSession::Impl::circ_replay_ok(const JointVector& q0, const JointVector&
     Isometry T = Isometry::Identity();
     T.linear() = r0.slerp(s, r1).toRotationMatrix();
     T.translation() = o.T_B_base * path.at(s);
+    const JointVector q_before = q_prev;
     if (!detail::replay_sample(*ik, T, q_other, status, s, ds, "arc", q_prev, peak_rate, why))
       return false;
+    // The arm's rates at the ends from the first and the last step; the other joints move
+    // linearly along the arc (their chord's rate).
+    if (ends && (k == 1 || k == samples)) {
+      JointVector& rate = k == 1 ? ends->entry_rate : ends->exit_rate;
+      rate = (q1 - q0) / length;
+      for (const int i : ik->arm_joints())
+        rate[i] = (q_prev[i] - q_before[i]) / ds;
+    }
+  }
+  if (ends) {
+    // The circle's direction at its start and end, in {B}.
+    const Eigen::Matrix3d R_B_base = o.T_B_base.linear();
+    ends->entry_tangent = (R_B_base * path.v).normalized();
+    const double phi = path.sweep;
+    ends->exit_tangent =
+        (R_B_base * (-std::sin(phi) * path.u + std::cos(phi) * path.v)).normalized();
   }
   return detail::replay_ends_at(*ik, q_prev, q1, "arc", why);
 }
@@ -134,7 +151,8 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
   }
   std::string why;
   JointVector peak;
-  if (!circ_replay_ok(q0, tracker.q(), arc, peak, why)) {
+  MotionEnds ends;
+  if (!circ_replay_ok(q0, tracker.q(), arc, peak, why, &ends)) {
     tracker = saved_tracker;
     last_target = saved_target;
     summary.poses = saved_poses;
@@ -158,8 +176,11 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
   const JointVector q1 = tracker.q();
   const KrlMotion end = motion_at(KrlMotionKind::lin, q1, cl_line);
   const Isometry T1 = o.T_B_base * end.T_base_tcp;
-  const TimedMotion t =
-      timed_cp(q_written, T_written, q1, T1, arc.r0 * arc.sweep_rad, cl_line, &peak);
+  TimedMotion t = timed_cp(q_written, T_written, q1, T1, arc.r0 * arc.sweep_rad, cl_line, &peak);
+  t.entry_rate = ends.entry_rate;
+  t.exit_rate = ends.exit_rate;
+  t.tangent = ends.entry_tangent;
+  t.exit_tangent = ends.exit_tangent;
   writer.velocity(t.command_mm_s / 1000.0);
   writer.circ(aux, end);
   after_write(end, q1, t);

@@ -254,8 +254,14 @@ struct PostSession::Impl {
   bool try_circ(const detail::ArcChords& arc, const Eigen::Vector3d& tool_axis, int cl_line);
   void arc_chord_moves(const detail::ArcChords& arc, const Eigen::Vector3d& chord_axis,
                        const Eigen::Vector3d& end_axis, bool rapid, int cl_line);
+  // The rates of the joints and the TCP's direction at the two ends of a replayed motion, for
+  // the time model's corners (a CIRC's are the circle's, not its chord's).
+  struct MotionEnds {
+    JointVector entry_rate, exit_rate;  // dq/dS, per mm of path
+    Eigen::Vector3d entry_tangent = Eigen::Vector3d::Zero(), exit_tangent = Eigen::Vector3d::Zero();
+  };
   bool circ_replay_ok(const JointVector& q0, const JointVector& q1, const detail::ArcChords& arc,
-                      JointVector& peak_rate, std::string& why);
+                      JointVector& peak_rate, std::string& why, MotionEnds* ends = nullptr);
   const ArmIk* arm_ik_for_active(std::string& why);
   Isometry physical_tcp_fk(const JointVector& q);
 

@@ -134,6 +134,9 @@ TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T
   }
   if (length_mm > 1e-6)
     t.tangent = (T1.translation() - T0.translation()) / length_mm;
+  t.exit_tangent = t.tangent;
+  t.entry_rate = t.chord_rate;
+  t.exit_rate = t.chord_rate;
   t.blend_mm = apo_mm;
   // $VEL.CP: the asked speed, or lower where an axis would exceed its velocity limit.
   int joint = -1;

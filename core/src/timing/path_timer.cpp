@@ -124,6 +124,12 @@ double PathTimer::segment_s(double length, double v0, double v1, double v_cap, d
 void PathTimer::push(const TimedMotion& motion) {
   Entry e;
   e.m = motion;
+  // Ends not given: a straight motion's, its chord's.
+  if (e.m.entry_rate.size() != e.m.chord_rate.size()) {
+    e.m.entry_rate = e.m.chord_rate;
+    e.m.exit_rate = e.m.chord_rate;
+    e.m.exit_tangent = e.m.tangent;
+  }
   if (motion.kind == TimedMotion::Kind::cp) {
     int vj = -1;
     const double v_axes = velocity_cap(*cell_, motion.peak_rate, &vj);
@@ -153,7 +159,7 @@ void PathTimer::push(const TimedMotion& motion) {
       if (d > 0.0) {
         for (int i = 0; i < cell_->size(); ++i) {
           const Joint& j = cell_->joint(i);
-          const double dr = std::fabs(e.m.chord_rate[i] - prev.m.chord_rate[i]);
+          const double dr = std::fabs(e.m.entry_rate[i] - prev.m.exit_rate[i]);
           if (!j.has_speed() || !(dr > 0.0))
             continue;
           const double c = std::sqrt(j.max_acceleration * d / dr);
@@ -162,7 +168,7 @@ void PathTimer::push(const TimedMotion& motion) {
             which = i;
           }
         }
-        const double dt = (e.m.tangent - prev.m.tangent).norm();
+        const double dt = (e.m.tangent - prev.m.exit_tangent).norm();
         if (dt > 0.0) {
           const double c = std::sqrt(controller_.path_acceleration_mm_s2 * d / dt);
           if (c < v) {

@@ -329,3 +329,31 @@ TEST_CASE("path_timer: the look-ahead of $ADVANCE motions bounds the speed in cl
   std::vector<TimedMotion> slow(1000, cp(1.0, 100.0, rate, x, 0.5));
   CHECK(total(run(cell, c, slow)) == Approx(10.05).epsilon(1e-9));
 }
+
+TEST_CASE("path_timer: a corner is judged by the motions' directions at their ends, not chords",
+          "[timing]") {
+  // A LIN along x into a quarter circle of 10 mm that leaves tangentially: the circle's chord
+  // turns by 45 deg, its start does not. Given the circle's own ends, the junction is not a
+  // corner (the speed is kept); judged by the chord it is one (the speed drops to the path
+  // acceleration's sqrt(a d / |t1 - t0|), the closed form of the corner rule).
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.path_acceleration_mm_s2 = 2000.0;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d chord = Eigen::Vector3d(1.0, 1.0, 0.0).normalized();
+  const double arc_mm = 0.5 * 3.14159265358979323846 * 10.0;
+  TimedMotion arc = cp(arc_mm, 100.0, rate, chord, 0.5);
+  const std::vector<Timed> by_chord = run(cell, c, {cp(100.0, 100.0, rate, x, 0.5), arc});
+  REQUIRE(by_chord.size() == 2);
+  const double corner = std::sqrt(2000.0 * 0.5 / (x - chord).norm());
+  CHECK(by_chord[0].t.exit_mm_s == Approx(corner).epsilon(1e-9));
+  arc.entry_rate = rate;
+  arc.exit_rate = rate;
+  arc.tangent = x;  // the circle's direction where it starts
+  arc.exit_tangent = Eigen::Vector3d::UnitY();
+  const std::vector<Timed> by_ends = run(cell, c, {cp(100.0, 100.0, rate, x, 0.5), arc});
+  REQUIRE(by_ends.size() == 2);
+  CHECK(by_ends[0].t.exit_mm_s == Approx(100.0));
+  CHECK(total(by_ends) < total(by_chord));
+}

@@ -85,8 +85,13 @@ struct TimedMotion {
   // The rate of every joint along the path, dq/dS (rad or mm per mm), the largest over the
   // motion in magnitude (for the limits) and the chord's (signed, for the corners).
   JointVector peak_rate, chord_rate;
-  Eigen::Vector3d tangent = Eigen::Vector3d::Zero();  // TCP direction (unit, or 0)
-  double blend_mm = 0.0;                              // blending distance at its end; 0: exact stop
+  // At its two ends (the corners with the motions before and after it): the joints' rates and
+  // the TCP's direction (unit, or 0). A LIN's are its chord's; a CIRC's the circle's at its ends.
+  // An entry_rate of another size than chord_rate: not given, the chord's (and tangent's).
+  JointVector entry_rate, exit_rate;
+  Eigen::Vector3d tangent = Eigen::Vector3d::Zero();  // at the start
+  Eigen::Vector3d exit_tangent = Eigen::Vector3d::Zero();
+  double blend_mm = 0.0;       // blending distance at its end; 0: exact stop
   bool stop_after = false;     // a statement after it stops the advance (HALT, WAIT, a call)
   double dwell_after_s = 0.0;  // WAIT SEC after it
   // PTP: its time, stop to stop; and the joint that sets it.
