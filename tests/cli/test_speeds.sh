@@ -120,6 +120,26 @@ awk -v f="${factor:-0}" 'BEGIN { exit !(f >= 10) }' || fail "raster: $(grep '^po
 grep -q "^interpolation cycle 12 ms: 0 of " "$out" || fail "raster: $(grep '^interpolation' "$out")"
 passed
 
+begin "the fast preset holds the slow external axes: the raster at 10 000 mm/min cuts sooner, the table turns less"
+# (docs/redundancy.md, "Why fast holds the external axes": each change of an external axis's
+# rate between blended LINs is a corner at its own acceleration.)
+ratio_of() { sed -n 's/.*(cutting .*, +\([0-9.]*\) % on the CL feeds.*/\1/p' "$TMP/out"; }
+table_of() { $py "$SRC/tests/cli/travel_check.py" "$1" | sed -n 's/.*table travel \([0-9.]*\) deg.*/\1/p'; }
+for preset in smooth fast; do
+  mkdir -p "$TMP/preset_$preset"
+  run convert "$TMP/fastfit_raster5k.apt.cl" --cell "$cell" -o "$TMP/preset_$preset" --name P \
+    --preset "$preset"
+  expect_rc 0
+  declare "ratio_$preset=$(ratio_of)"
+  declare "table_$preset=$(table_of "$TMP/preset_$preset/P.src")"
+done
+echo "cli.speeds: raster 5k at 10 m/min: smooth +$ratio_smooth % (table $table_smooth deg), fast +$ratio_fast % (table $table_fast deg)"
+awk -v s="$ratio_smooth" -v f="$ratio_fast" 'BEGIN { exit !(f + 5 < s) }' ||
+  fail "fast (+$ratio_fast %) is not clearly faster than smooth (+$ratio_smooth %)"
+awk -v s="$table_smooth" -v f="$table_fast" 'BEGIN { exit !(f < 0.5 * s) }' ||
+  fail "the table turns $table_fast deg under fast, $table_smooth under smooth"
+passed
+
 begin "point reduction: a program reduced with looser tolerances fails the check at 0.01 mm and 0.1 deg"
 dir=$TMP/fastfit_raster5k.apt
 mkdir -p "$dir/loose"

@@ -65,10 +65,15 @@ PathPlanSettings plan_preset(PlanPreset preset) {
       s.w_travel_arm = 1.0;
       break;
     case PlanPreset::fast:
-      // Time first: every second the axes would add weighs more, travel less.
+      // Time first: every second the axes would add weighs more. The arm carries the path and
+      // the slow external axes hold where the arm can do without them: a KUKA LIN moves an
+      // external axis at one rate per motion, so each change of its rate between blended
+      // motions is a corner at its own, low acceleration (the time model's corner rule), which
+      // no velocity term sees. Centring is weak, external travel dear, the arm's cheap.
       s.w_time = 100.0;
-      s.w_travel = 0.3;
-      s.w_travel_arm = 1.0;
+      s.w_centre = 1.0;
+      s.w_travel = 3.0;
+      s.w_travel_arm = 0.3;
       break;
   }
   return s;
