@@ -396,11 +396,12 @@ typedef struct rp_feed_limit_info {
   unsigned struct_size;      /* set to sizeof(rp_feed_limit_info) before the call */
   int first_line, last_line; /* CL lines */
   long motions;
-  int joint;              /* chain index; -1 for "motion rate" and "look-ahead" (0.7) */
+  int joint; /* chain index; -1 for "motion rate", "look-ahead" (0.7) and "curvature" (0.8) */
   const char* joint_name; /* valid while the session lives; "" when joint is -1 */
   const char* axis_name;  /* "A1".."E6" or "none" (static); "-" when joint is -1 */
   /* "axis velocity", "axis acceleration", "corner", and since 0.7 "motion rate" (motions
-     shorter than one interpolation cycle) and "look-ahead" ($ADVANCE too short to stop in). */
+     shorter than one interpolation cycle) and "look-ahead" ($ADVANCE too short to stop in), and
+     since 0.8 "curvature" (a CIRC whose radius keeps it below the feed at $ACC.CP). */
   const char* limit;
   double lowest_mm_per_min; /* the lowest speed reached on it */
   double asked_mm_per_min;  /* the feed asked */

@@ -207,8 +207,8 @@ TEST_CASE("abi timing: struct_size rules and the feed limits list", "[abi]") {
       CHECK(f.motions >= 1);
       CHECK(f.lowest_mm_per_min < 0.95 * f.asked_mm_per_min);
       const std::string limit = f.limit;
-      if (limit == "motion rate" || limit == "look-ahead") {
-        // The controller's clock, not an axis (0.7).
+      if (limit == "motion rate" || limit == "look-ahead" || limit == "curvature") {
+        // The controller's clock (0.7), a CIRC's radius (0.8): not an axis.
         CHECK(f.joint == -1);
         CHECK(std::string(f.axis_name) == "-");
         CHECK(std::string(f.joint_name).empty());

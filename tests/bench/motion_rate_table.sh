@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The controller's clock on real and generated toolpaths (docs/timing.md, "The interpolation
 # cycle" and "Point reduction"; issue 30): every file converted with each feed set to
-# 10 000 mm/min, without the point reduction (--fit-tol 0) and with it (the default), and per
-# file the motions written, how many last less than one 12 ms cycle at their $VEL.CP (convert's
-# count; `redpost check` counts the same from the written text), the cutting time the
-# cycle-aware model gives against the CL feeds' time, and how far the reduced program's path
-# strays from the CL points (tests/cli/fit_check.py, from the two written programs).
+# 10 000 mm/min four ways: 0.7's program (krc4_lin, --fit-tol 0), the point reduction with LINs
+# (krc4_lin), with arcs (krc4_circ), and with arcs and the fast plan preset. Per file the motions
+# written, how many last less than one 12 ms cycle at their $VEL.CP (convert's count; `redpost
+# check` counts the same from the written text), the cutting time the cycle-aware model gives
+# against the CL feeds' time, and how far each reduced program's path strays from the CL points
+# (tests/cli/fit_check.py, against the 0.7 program, whose positions are the CL points).
 #
 # Usage: tests/bench/motion_rate_table.sh [BUILD_DIR]   (prints a Markdown table)
 set -euo pipefail
@@ -37,11 +38,13 @@ inputs=("$work/raster_20k.apt" "$top"/examples/cl/*)
 evaldata=$top/../shared/evaldata
 [[ -d $evaldata ]] && inputs+=("$evaldata"/apt/*.apt "$evaldata"/clsf/*)
 
-# convert_at FILE NAME OUT FIT: converts; prints "motions|below|ratio" or "refused: why".
+# convert_at FILE NAME OUT [options...]: converts; prints "motions|below|ratio" or "refused: why".
 convert_at() {
-  mkdir -p "$3"
+  local f=$1 name=$2 out=$3
+  shift 3
+  mkdir -p "$out"
   # shellcheck disable=SC2046 # the options are words
-  if ! "$redpost" convert "$1" --cell "$cell" -o "$3" --name P --fit-tol "$4" $(options_of "$2") \
+  if ! "$redpost" convert "$f" --cell "$cell" -o "$out" --name P $(options_of "$name") "$@" \
     >"$work/log" 2>&1; then
     echo "refused: $(grep -m1 '^redpost:' "$work/log" | sed "s#$work/##" | cut -c10-100)..."
     return
@@ -54,6 +57,15 @@ convert_at() {
   echo "$motions|${below:-0}|$ratio"
 }
 
+# fit_of REDUCED REFERENCE: "mm, deg" of the largest deviation of a CL point from the path.
+fit_of() {
+  (python3 "$top/tests/cli/fit_check.py" "$1" "$2" || true) |
+    sed -n 's/.*largest deviation \([0-9.]*\) mm and \([0-9.]*\) deg.*; \([0-9]*\) outside.*/\1, \2 (\3 outside)/p'
+}
+
+echo
+echo "Each cell: 0.7 (krc4_lin, --fit-tol 0) → reduction, krc4_lin → reduction, krc4_circ; the"
+echo "time also → krc4_circ with --preset fast; the deviation for krc4_lin and krc4_circ."
 echo
 echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) |"
 echo "|---|---|---|---|---|"
@@ -62,16 +74,20 @@ for f in "${inputs[@]}"; do
   fast=$work/fast_$name
   sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
     "$f" >"$fast"
-  before=$(convert_at "$fast" "$name" "$work/before_$name" 0)
+  before=$(convert_at "$fast" "$name" "$work/before_$name" --fit-tol 0)
   label="$name $(options_of "$name" | sed "s#$work/##")"
   if [[ $before == refused* ]]; then
     echo "| $label | $before | | | |"
     continue
   fi
-  after=$(convert_at "$fast" "$name" "$work/after_$name" 0.01)
+  lin=$(convert_at "$fast" "$name" "$work/lin_$name")
+  circ=$(convert_at "$fast" "$name" "$work/circ_$name" --krl krc4_circ)
+  quick=$(convert_at "$fast" "$name" "$work/quick_$name" --krl krc4_circ --preset fast)
   IFS='|' read -r m0 b0 r0 <<<"$before"
-  IFS='|' read -r m1 b1 r1 <<<"$after"
-  fit=$( (python3 "$top/tests/cli/fit_check.py" "$work/after_$name/P.src" "$work/before_$name/P.src" || true) |
-    sed -n 's/.*largest deviation \([0-9.]*\) mm and \([0-9.]*\) deg.*; \([0-9]*\) outside.*/\1, \2 (\3 outside)/p')
-  echo "| $label | $m0 → $m1 | $b0 → $b1 | $r0 → $r1 | ${fit:-fit check failed} |"
+  IFS='|' read -r m1 b1 r1 <<<"$lin"
+  IFS='|' read -r m2 b2 r2 <<<"$circ"
+  IFS='|' read -r _ _ r3 <<<"$quick"
+  fit_lin=$(fit_of "$work/lin_$name/P.src" "$work/before_$name/P.src")
+  fit_circ=$(fit_of "$work/circ_$name/P.src" "$work/before_$name/P.src")
+  echo "| $label | $m0 → $m1 → $m2 | $b0 → $b1 → $b2 | $r0 → $r1 → $r2 → $r3 | ${fit_lin:-fit check failed}; ${fit_circ:-fit check failed} |"
 done

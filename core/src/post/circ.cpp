@@ -181,6 +181,7 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
   t.exit_rate = ends.exit_rate;
   t.tangent = ends.entry_tangent;
   t.exit_tangent = ends.exit_tangent;
+  t.curvature_per_mm = 1.0 / arc.r0;
   writer.velocity(t.command_mm_s / 1000.0);
   writer.circ(aux, end);
   after_write(end, q1, t);

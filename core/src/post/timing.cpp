@@ -409,10 +409,14 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
                        ((mt.joint >= 0 && (mt.limit == TimingLimit::axis_velocity ||
                                            mt.limit == TimingLimit::axis_acceleration ||
                                            mt.limit == TimingLimit::corner)) ||
-                        mt.limit == TimingLimit::motion_rate || mt.limit == TimingLimit::lookahead);
+                        mt.limit == TimingLimit::motion_rate ||
+                        mt.limit == TimingLimit::lookahead || mt.limit == TimingLimit::curvature);
   if (by_axis) {
-    const int stretch_joint =
-        mt.limit == TimingLimit::motion_rate || mt.limit == TimingLimit::lookahead ? -1 : mt.joint;
+    const int stretch_joint = mt.limit == TimingLimit::motion_rate ||
+                                      mt.limit == TimingLimit::lookahead ||
+                                      mt.limit == TimingLimit::curvature
+                                  ? -1
+                                  : mt.joint;
     if (open_limit && (open_limit->joint != stretch_joint || open_limit->limit != mt.limit))
       close_limit();
     if (!open_limit) {

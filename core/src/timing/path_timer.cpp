@@ -44,6 +44,8 @@ const char* to_string(TimingLimit limit) {
       return "motion rate";
     case TimingLimit::lookahead:
       return "look-ahead";
+    case TimingLimit::curvature:
+      return "curvature";
   }
   return "?";
 }
@@ -143,6 +145,10 @@ void PathTimer::push(const TimedMotion& motion) {
     if (controller_.interpolation_cycle_s > 0.0 && motion.length_mm > 0.0) {
       e.rate_cap = motion.length_mm / controller_.interpolation_cycle_s;
       e.cruise = std::min(e.cruise, e.rate_cap);
+    }
+    if (motion.curvature_per_mm > 0.0) {
+      e.curvature_cap = std::sqrt(controller_.path_acceleration_mm_s2 / motion.curvature_per_mm);
+      e.cruise = std::min(e.cruise, e.curvature_cap);
     }
   }
   if (!buffer_.empty()) {
@@ -356,6 +362,9 @@ void PathTimer::emit_front(std::size_t count) {
         } else if (m.orientation_cap_mm_s < m.asked_mm_s &&
                    same(e.cruise, m.orientation_cap_mm_s)) {
           t.limit = TimingLimit::orientation;
+        } else if (e.curvature_cap < m.asked_mm_s && same(e.cruise, e.curvature_cap) &&
+                   t.peak_mm_s >= e.cruise * (1.0 - 1e-6)) {
+          t.limit = TimingLimit::curvature;
         } else {
           // Not reaching the cruise speed: the junctions or the acceleration.
           const bool stop_in = v0 == 0.0, stop_out = v1 == 0.0;

@@ -357,3 +357,24 @@ TEST_CASE("path_timer: a corner is judged by the motions' directions at their en
   CHECK(by_ends[0].t.exit_mm_s == Approx(100.0));
   CHECK(total(by_ends) < total(by_chord));
 }
+
+TEST_CASE("path_timer: a circle's radius caps its speed at sqrt(a r), its normal acceleration",
+          "[timing]") {
+  // A 1.5 mm circle asked at 10 000 mm/min (166.7 mm/s): at $ACC.CP 2000 mm/s^2 the TCP can go
+  // round it at sqrt(2000 x 1.5) = 54.8 mm/s only (v^2 / r = a); a 500 mm circle keeps the feed.
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.path_acceleration_mm_s2 = 2000.0;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  for (const double r : {1.5, 500.0}) {
+    TimedMotion circ = cp(2.0 * 3.14159265358979323846 * r, 10000.0 / 60.0, rate, x, 0.5);
+    circ.curvature_per_mm = 1.0 / r;
+    const std::vector<Timed> t = run(cell, c, {circ});
+    REQUIRE(t.size() == 1);
+    const double cap = std::min(10000.0 / 60.0, std::sqrt(2000.0 * r));
+    CHECK(t[0].t.peak_mm_s == Approx(cap).epsilon(1e-9));
+    CHECK(total(t) == Approx(PathTimer::stop_to_stop_s(circ.length_mm, cap, 2000.0)));
+    CHECK(t[0].t.limit == (r < 10.0 ? TimingLimit::curvature : TimingLimit::none));
+  }
+}

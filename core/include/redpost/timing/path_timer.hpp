@@ -63,6 +63,7 @@ enum class TimingLimit : std::uint8_t {
   stop,               // an exact stop (a PTP, a tool change, a dwell) before or after it
   motion_rate,        // shorter than one interpolation cycle at the asked speed
   lookahead,          // the planner's look-ahead ($ADVANCE motions) is too short to stop in
+  curvature,          // a CIRC's radius: the TCP's normal acceleration v^2 / r at most $ACC.CP
 };
 const char* to_string(TimingLimit limit);
 
@@ -82,6 +83,9 @@ struct TimedMotion {
                                // kMotionRate: lowered so that the motion lasts one IPO cycle
   static constexpr int kMotionRate = -2;
   double orientation_cap_mm_s = std::numeric_limits<double>::infinity();
+  // A CIRC's 1 / radius (0: straight): it runs at most at sqrt($ACC.CP / curvature), the speed at
+  // which its normal acceleration is the path acceleration (as the corner rule bounds a blend).
+  double curvature_per_mm = 0.0;
   // The rate of every joint along the path, dq/dS (rad or mm per mm), the largest over the
   // motion in magnitude (for the limits) and the chord's (signed, for the corners).
   JointVector peak_rate, chord_rate;
@@ -149,9 +153,10 @@ class PathTimer {
     int accel_joint = -1;   // joint that set accel (below $ACC.CP), -1
     double junction = 0.0;  // cap of the junction at its end
     int corner_joint = -1;  // joint whose corner term set `junction` (-2: the TCP direction)
-    double rate_cap = std::numeric_limits<double>::infinity();  // length / interpolation cycle
-    bool lookahead_bound = false;                               // the look-ahead lowered `junction`
-    double exit = 0.0;                                          // planned exit speed
+    double rate_cap = std::numeric_limits<double>::infinity();       // length / interpolation cycle
+    double curvature_cap = std::numeric_limits<double>::infinity();  // sqrt(a_path r)
+    bool lookahead_bound = false;  // the look-ahead lowered `junction`
+    double exit = 0.0;             // planned exit speed
   };
   // What the look-ahead needs of the last motions, also of those already timed.
   struct Recent {
