@@ -22,9 +22,12 @@ def goto(x, y, z, axis):
     return "GOTO/%.4f,%.4f,%.4f,%.7f,%.7f,%.7f\n" % (x, y, z, *axis)
 
 
-def header(w, name, feed, start):
+def header(w, name, feed, start, axis):
+    """The approach as a CAM system writes it: a rapid to 80 mm above the first point along its
+    tool axis, with that axis, then the feed."""
     w(f"PARTNO/{name}\nUNITS/MM\nMULTAX/ON\nCUTTER/10.,5.\nLOADTL/1\nSPINDL/15000,RPM,CLW\n")
-    w("RAPID\n" + goto(start[0], start[1], start[2] + 80.0, (0.0, 0.0, 1.0)))
+    above = [start[i] + 80.0 * axis[i] for i in range(3)]
+    w("RAPID\n" + goto(above[0], above[1], above[2], axis))
     w(f"FEDRAT/MMPM,{feed:g}\n")
 
 
@@ -34,17 +37,21 @@ def raster(a, w):
     per_line = int(round(a.width / a.step)) + 1
     c, s = math.cos(math.radians(a.angle)), math.sin(math.radians(a.angle))
     tilt = math.radians(a.tilt)
-    header(w, "RASTER", a.feed, (-100.0 - half * c, -450.0 - half * s, 60.0))
+
+    def axis_at(u, v):
+        # The tilt in the raster's own frame, then turned with it.
+        ta = tilt * math.sin(0.5 * math.pi * u / half) / math.sqrt(2.0)
+        tb = tilt * math.sin(0.5 * math.pi * v / half) / math.sqrt(2.0)
+        lx, ly, lz = math.sin(ta) * math.cos(tb), -math.sin(tb), math.cos(ta) * math.cos(tb)
+        return (c * lx - s * ly, s * lx + c * ly, lz)
+
+    header(w, "RASTER", a.feed, (-100.0 - half * c + half * s, -450.0 - half * s - half * c, 60.0),
+           axis_at(-half, -half))
     for line in range(lines):
         v = -half + line * a.spacing
         for k in range(per_line):
             u = -half + (k if line % 2 == 0 else per_line - 1 - k) * a.step
-            # The tilt in the raster's own frame, then turned with it.
-            ta = tilt * math.sin(0.5 * math.pi * u / half) / math.sqrt(2.0)
-            tb = tilt * math.sin(0.5 * math.pi * v / half) / math.sqrt(2.0)
-            lx, ly, lz = math.sin(ta) * math.cos(tb), -math.sin(tb), math.cos(ta) * math.cos(tb)
-            axis = (c * lx - s * ly, s * lx + c * ly, lz)
-            w(goto(-100.0 + c * u - s * v, -450.0 + s * u + c * v, 60.0, axis))
+            w(goto(-100.0 + c * u - s * v, -450.0 + s * u + c * v, 60.0, axis_at(u, v)))
     w("RAPID\n" + goto(-100.0, -450.0, 140.0, (0.0, 0.0, 1.0)) + "FINI\n")
 
 
@@ -55,7 +62,7 @@ def straight(a, w):
     t = math.radians(a.tilt)
     axis = (math.sin(t) * side[0], math.sin(t) * side[1], math.cos(t))
     start = (-100.0, -300.0, 60.0)
-    header(w, "PASS", a.feed, start)
+    header(w, "PASS", a.feed, start, axis)
     n = int(round(a.length / a.step))
     for k in range(n + 1):
         s = k * a.step

@@ -213,6 +213,43 @@ $py "$travel_py" "$TMP/straight_local/P.src" >"$TMP/travel" 2>&1
 echo "cli.speeds: straight, pose by pose: $(cat "$TMP/travel")"
 passed
 
+begin "generated rasters and passes at 10 000 mm/min: the track at most 0.5 mm per mm of a raster, and it carries a pass one way"
+# Issue 30, item 5, on paths the plan was not tuned on (tests/cli/make_path_apt.py): other
+# spacings, point steps, tilts and directions than the shipped examples'.
+gen=$SRC/tests/cli/make_path_apt.py
+i=0
+for spec in "raster --spacing 5 --tilt 20" "raster --spacing 2 --step 0.3 --tilt 10" \
+  "raster --spacing 8 --step 1 --tilt 0 --angle 90" "raster --spacing 5 --tilt 15 --angle 45" \
+  "raster --spacing 3 --tilt 25 --angle 45" "raster --spacing 4 --tilt 0 --angle 30"; do
+  i=$((i + 1))
+  # shellcheck disable=SC2086 # the spec is words
+  $py "$gen" $spec "$TMP/genraster$i.apt"
+  mkdir -p "$TMP/genraster$i"
+  run convert "$TMP/genraster$i.apt" --cell "$cell" -o "$TMP/genraster$i" --name P -q
+  expect_rc 0
+  $py "$travel_py" "$TMP/genraster$i/P.src" --track-per-mm 0.5 >"$TMP/travel" 2>&1 ||
+    fail "$spec: $(cat "$TMP/travel")"
+  echo "cli.speeds: $spec: $(cat "$TMP/travel")"
+done
+# Passes along the track (1500 mm; the track covers 1400 at least, one way), one of 1400 mm
+# in 0.5 mm steps, and one 20 deg off the track.
+for spec in "pass --step 5 --tilt 0:1400" "pass --step 2 --tilt 15:1400" \
+  "pass --step 2 --tilt -20 --angle -10:1400" "pass --step 0.5 --tilt 10 --length 1400:1300" \
+  "pass --step 1 --tilt 0 --angle 20:1300"; do
+  i=$((i + 1))
+  net=${spec##*:}
+  # shellcheck disable=SC2086 # the spec is words
+  $py "$gen" ${spec%:*} "$TMP/genpass$i.apt"
+  mkdir -p "$TMP/genpass$i"
+  run convert "$TMP/genpass$i.apt" --cell "$cell" -o "$TMP/genpass$i" --name P -q
+  expect_rc 0
+  $py "$travel_py" "$TMP/genpass$i/P.src" --track-net-min "$net" --track-travel-max "$((net + 250))" \
+    >"$TMP/travel" 2>&1 || fail "${spec%:*}: $(cat "$TMP/travel")"
+  grep -q ", 0 reversals)" "$TMP/travel" || fail "${spec%:*}: the track goes back: $(cat "$TMP/travel")"
+  echo "cli.speeds: ${spec%:*}: $(cat "$TMP/travel")"
+done
+passed
+
 begin "a cone pass with the track held: pose by pose runs into a dead end, the whole-path plan does not"
 # 2.5 turns around a 50 mm circle on the table, the tool tilted 20 deg outwards and turning with
 # the point, E1 held where the first pose puts it. Pose by pose, the greedy start near home and the

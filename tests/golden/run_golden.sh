@@ -7,9 +7,9 @@
 set -euo pipefail
 redpost=$1 src=$2 work=$3 update=${4:-}
 cell=$src/definitions/cells/andres2011_kr15_track_table.xml
-# The first five run with point reduction off (--fit-tol 0): one motion per CL point, the
-# program of redpost 0.7 byte for byte (docs/timing.md, "Point reduction"); the *_fit cases
-# are the default, reduced program.
+# The first five run with point reduction off (--fit-tol 0): one motion per CL point, as
+# redpost 0.7 wrote them (docs/timing.md, "Point reduction"; 0.8's first-window plan moved their
+# external axes); the *_fit cases are the default, reduced program.
 cases=(
   "pocket_arcs krc4_lin pocket_arcs.apt --fit-tol 0"
   "pocket_arcs_spline krc4_spline pocket_arcs.apt --fit-tol 0"

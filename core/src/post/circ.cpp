@@ -33,6 +33,7 @@ const ArmIk* PostSession::Impl::arm_ik_for_active(std::string& why) {
     // The planner holds the IK it was built on: it goes with it (a tool change back to an
     // earlier tool's cell would otherwise find the planner of that cell on a freed IK).
     planner.reset();
+    planner_held.reset();
     planner_cell = nullptr;
     arm_ik.reset();
     arm_ik_cell = active_cell;

@@ -145,6 +145,17 @@ std::size_t walk_calls(const std::deque<ClEvent>& calls, std::size_t from, Keyfr
 
 }  // namespace
 
+// The first window after an approach (the program's start, a tool change) picks the branch the
+// rest follows: where the table stands, where the track starts. Seen over one horizon (800 mm) a
+// branch may look cheapest that runs an axis into its limit soon after; the first window sees
+// three horizons (and commits as much as any window).
+constexpr double kFirstWindowHorizons = 3.0;
+
+double PostSession::Impl::window_mm() const {
+  const bool fresh = !started || approach_pending;
+  return fresh ? kFirstWindowHorizons * o.plan_horizon_mm : o.plan_horizon_mm;
+}
+
 void PostSession::Impl::reset_plan() {
   plan_kf.clear();
   plan_q.clear();
@@ -166,6 +177,26 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
     settings.normal_deflection_mm = nominal_deflection(*active_cell);
     planner = std::make_unique<PathPlanner>(*active_cell, *ik, settings);
     planner_cell = active_cell;
+    // The rotary external axes the user left free, held at home for the second start.
+    planner_held.reset();
+    PathPlanSettings held = settings;
+    if (held.lock_value.size() != active_cell->size())
+      held.lock_value =
+          JointVector::Constant(active_cell->size(), std::numeric_limits<double>::quiet_NaN());
+    bool any = false;
+    for (int i = 0; i < active_cell->size(); ++i) {
+      const Joint& j = active_cell->joint(i);
+      const auto iu = static_cast<std::size_t>(i);
+      const bool in_arm =
+          std::find(ik->arm_joints().begin(), ik->arm_joints().end(), i) != ik->arm_joints().end();
+      if (in_arm || j.type != JointType::revolute || held.locked.test(iu))
+        continue;
+      held.locked.set(iu);
+      held.lock_value[i] = j.home;
+      any = true;
+    }
+    if (any)
+      planner_held = std::make_unique<PathPlanner>(*active_cell, *ik, held);
   }
   return *planner;
 }
@@ -267,7 +298,7 @@ std::size_t PostSession::Impl::plan_window(bool flush) {
   bool barrier = false;
   const std::size_t end = walk_calls(deferred, i, w, end_s, barrier);
   const double start_s = w.kf.front().s_mm;
-  if (!flush && !barrier && w.s - start_s < o.plan_horizon_mm && deferred.size() < kMaxDeferred)
+  if (!flush && !barrier && w.s - start_s < window_mm() && deferred.size() < kMaxDeferred)
     return 0;
   // A keyframe at the end of the buffered path, so that the window covers every call in it.
   if (w.s > w.kf.back().s_mm + 1e-6)
@@ -278,6 +309,18 @@ std::size_t PostSession::Impl::plan_window(bool flush) {
   PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q);
   ++summary.plan_windows;
   summary.plan_ik_evaluations += r.ik_evaluations;
+  // The first window after an approach picks the branch the rest follows (where the table
+  // stands, where the track starts). Its first keyframe's lattice is coarse, and the beam may
+  // keep only one family of starts: a tilted 1500 mm pass once went round with the table (72
+  // deg) and left the track 300 mm, at a cost above the plan that holds the table. The plan
+  // with the rotary external axes held at home is the second start; the cheaper one is kept
+  // (later windows move those axes freely again).
+  if (fresh && planner_held) {
+    PlanWindowResult held = planner_held->plan(w.kf, nullptr);
+    summary.plan_ik_evaluations += held.ik_evaluations;
+    if (held.feasible && (!r.feasible || held.cost < r.cost))
+      r = std::move(held);
+  }
   if (!r.feasible) {
     // The beam may have lost the way: search wider once.
     r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam);

@@ -161,8 +161,7 @@ bool PostSession::defer(const ClEvent& e) {
     m.deferred_barrier = true;
   }
   // Only when a window may be complete: the planner walks the whole buffer.
-  if (m.deferred_barrier || m.deferred_length_mm >= m.o.plan_horizon_mm ||
-      m.deferred.size() >= 20000)
+  if (m.deferred_barrier || m.deferred_length_mm >= m.window_mm() || m.deferred.size() >= 20000)
     pump(false);
   return true;
 }

@@ -171,6 +171,9 @@ struct PostSession::Impl {
   std::vector<double> dispatch_end_s;  // for the events plan_window released: s at their end
   bool dispatching = false;
   std::unique_ptr<PathPlanner> planner;
+  // The same plan with the cell's rotary external axes (the table) held at home: the first
+  // window after an approach is planned both ways and the cheaper kept (plan.cpp).
+  std::unique_ptr<PathPlanner> planner_held;
   const Cell* planner_cell = nullptr;
   std::vector<PlanKeyframe> plan_kf;
   std::vector<JointVector> plan_q;
@@ -272,6 +275,9 @@ struct PostSession::Impl {
 
   // plan.cpp
   bool planning() const { return o.plan == RedundancyPlan::global; }
+  // The path a window must see before it is planned: three horizons for the first window after
+  // an approach (plan.cpp), one after that.
+  double window_mm() const;
   std::size_t plan_window(bool flush);
   void follow_plan(double s_mm);
   void reset_plan();

@@ -216,8 +216,8 @@ double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
   return travel_s + s.w_time * std::max(0.0, need_s - dt);
 }
 
-std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf,
-                                                 JointVector& origin) const {
+std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf, JointVector& origin,
+                                                 int& stride_out) const {
   (void)kf;
   const Cell& cell = *cell_;
   std::array<int, kMaxFreeJoints> lo{}, hi{};
@@ -258,6 +258,7 @@ std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf,
     if (f == free_.size())
       break;
   }
+  stride_out = stride;
   return keys;
 }
 
@@ -271,13 +272,14 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
   for (int i = 0; i < cell.size(); ++i)
     origin[i] = cell.joint(i).home;
   std::vector<LatticeKey> first;
+  int stride = 1;
   if (start) {
     origin = *start;
     LatticeKey k;
     k.posture = status_turn(cell, ik_->status_model(), *start).status;
     first.push_back(k);
   } else {
-    first = first_layer(keyframes.front(), origin);
+    first = first_layer(keyframes.front(), origin, stride);
   }
   for (int i = 0; i < cell.size(); ++i) {
     if (settings_.locked.test(static_cast<std::size_t>(i)) && settings_.lock_value.size() > i &&
@@ -305,26 +307,61 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
   dp.max_moving = settings_.max_moving;
   dp.beam = beam > 0 ? beam : settings_.beam;
   std::vector<int> limit_hits(static_cast<std::size_t>(cell.size()), 0);
-  const LatticeDpResult r = lattice_dp(
-      static_cast<int>(keyframes.size()), first, dp,
-      [&](int layer, const LatticeKey& key, JointVector& q, double& cost) {
-        int limit_joint = -1;
-        const bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q,
-                                 cost, &limit_joint);
-        if (limit_joint >= 0)
-          ++limit_hits[static_cast<std::size_t>(limit_joint)];
-        return ok;
-      },
-      [&](int layer, const LatticeNode& a, const LatticeNode& b) {
-        return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
-                         keyframes[static_cast<std::size_t>(layer)], a.q, b.q);
-      },
-      [&](int layer, const LatticeNode& n) {
-        const auto k = static_cast<std::size_t>(layer);
-        return condition_cost(n.q) +
-               compliance_cost(n.q, feed_B[k], keyframes[k].target.z_B.normalized());
-      });
+  const auto search = [&](const std::vector<LatticeKey>& first_keys) {
+    return lattice_dp(
+        static_cast<int>(keyframes.size()), first_keys, dp,
+        [&](int layer, const LatticeKey& key, JointVector& q, double& cost) {
+          int limit_joint = -1;
+          const bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q,
+                                   cost, &limit_joint);
+          if (limit_joint >= 0)
+            ++limit_hits[static_cast<std::size_t>(limit_joint)];
+          return ok;
+        },
+        [&](int layer, const LatticeNode& a, const LatticeNode& b) {
+          return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
+                           keyframes[static_cast<std::size_t>(layer)], a.q, b.q);
+        },
+        [&](int layer, const LatticeNode& n) {
+          const auto k = static_cast<std::size_t>(layer);
+          return condition_cost(n.q) +
+                 compliance_cost(n.q, feed_B[k], keyframes[k].target.z_B.normalized());
+        });
+  };
+  LatticeDpResult r = search(first);
   out.ik_evaluations = r.evaluations;
+  // Coarse to fine: the first keyframe's lattice is `stride` steps apart, so the best start is
+  // only as good as that grid, and the plan may spend its first keyframes walking an axis to
+  // where it should have started (a tilted pass once moved the track 124 mm back during the
+  // plunge, then forward). The search again from every lattice point within a stride of the
+  // start found, in its posture; the cheaper is kept.
+  if (!start && r.feasible && stride > 1) {
+    const LatticeKey best = r.path.front().key;
+    std::vector<LatticeKey> fine;
+    std::array<int, kMaxFreeJoints> at{};
+    const int n_free = static_cast<int>(free_.size());
+    const int span = stride - 1;
+    for (int f = 0; f < n_free; ++f)
+      at[static_cast<std::size_t>(f)] = -span;
+    while (true) {
+      LatticeKey k = best;
+      for (int f = 0; f < n_free; ++f)
+        k.step[static_cast<std::size_t>(f)] += at[static_cast<std::size_t>(f)];
+      fine.push_back(k);
+      int f = 0;
+      for (; f < n_free; ++f) {
+        if (++at[static_cast<std::size_t>(f)] <= span)
+          break;
+        at[static_cast<std::size_t>(f)] = -span;
+      }
+      if (f == n_free)
+        break;
+    }
+    LatticeDpResult refined = search(fine);
+    out.ik_evaluations += refined.evaluations;
+    if (refined.feasible && refined.cost < r.cost)
+      r = std::move(refined);
+  }
   if (!r.feasible) {
     out.dead_keyframe = r.dead_layer;
     const auto most = std::max_element(limit_hits.begin(), limit_hits.end());

@@ -127,9 +127,9 @@ TEST_CASE("krl_reader: first motion values and Cartesian PTP with S and T", "[kr
   KrlProgram p =
       read_krl_program(source_path("tests/golden/pocket_arcs_krc2/POCKET_ARCS_KRC2.src"));
   REQUIRE(p.motions.size() >= 3);
-  CHECK(p.motions[0].target.values.at("A1") == Approx(-7.6861));
-  CHECK(p.motions[0].target.values.at("E1") == Approx(220.0));
-  CHECK(p.motions[0].target.values.at("E2") == Approx(0.0));
+  CHECK(p.motions[0].target.values.at("A1") == Approx(0.3084));
+  CHECK(p.motions[0].target.values.at("E1") == Approx(340.0));
+  CHECK(p.motions[0].target.values.at("E2") == Approx(6.0));
   CHECK(p.motions[0].line == 24);
   CHECK(p.motions[0].cl_line == 9);
   // With --clearance 100 the first rapid (z 110 -> 62) is a PTP down to the plane, then a LIN.
@@ -137,7 +137,7 @@ TEST_CASE("krl_reader: first motion values and Cartesian PTP with S and T", "[kr
   CHECK(ptp.keyword == "PTP");
   CHECK(ptp.target.type == "E6POS");
   CHECK(ptp.target.status == 2);
-  CHECK(ptp.target.turn == 11);
+  CHECK(ptp.target.turn == 10);
   CHECK(ptp.target.values.at("X") == Approx(-120.0));
   const auto& down = p.motions[2];  // the rest of the rapid, below the plane: a LIN
   CHECK(down.keyword == "LIN");

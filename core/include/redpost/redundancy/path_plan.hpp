@@ -118,7 +118,9 @@ class PathPlanner {
                          const Eigen::Vector3d& z_B) const;
   double edge_cost(const PlanKeyframe& from, const PlanKeyframe& to, const JointVector& q0,
                    const JointVector& q1) const;
-  std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin) const;
+  // The first keyframe's lattice (every free joint over its range, `stride` steps apart).
+  std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin,
+                                      int& stride) const;
   void smooth(const std::vector<PlanKeyframe>& keyframes, const LatticeDpResult& r,
               std::vector<JointVector>& q) const;
 
