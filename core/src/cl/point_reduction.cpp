@@ -92,6 +92,7 @@ LinDeviation lin_deviation(const Eigen::Vector3d& a, const Eigen::Vector3d& a_ax
 PointReducer::PointReducer(const PointReductionOptions& options)
     : o_(options), axis_tolerance_rad_(0.5 * options.axis_tolerance_deg * kPi / 180.0) {
   run_.reserve(static_cast<std::size_t>(std::max(o_.max_points, 2)));
+  replay_.reserve(run_.capacity());  // the two swap in replay_as_lines
 }
 
 void PointReducer::push(const ClEvent& e) {
