@@ -206,7 +206,7 @@ bool PointReducer::fits_arc(const ClEvent& end, Eigen::Vector3d& centre,
     return false;
   if (!(c.radius >= kMinArcRadiusMm && c.radius <= kMaxArcRadiusMm) || c.sweep > kMaxArcSweepRad)
     return false;
-  const double tol = 0.5 * o_.tolerance_mm;
+  const double tol = arc_tolerance_mm();
   const double sin_axis = std::sin(axis_tolerance_rad_);
   double last_phi = 0.0;
   // In order along the circle, on it, each chord of the CL polyline close to it, the tool axis

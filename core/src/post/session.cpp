@@ -266,13 +266,12 @@ void PostSession::route(const ClEvent& e) {
         return;
       if (e.rapid)
         rapid();
-      // An arc the point reduction fitted through CL points keeps half its tolerance (the
-      // points are within the other half of the circle); a CIRCLE the chordal tolerance.
+      // An arc the point reduction fitted through CL points keeps the reducer's other half of
+      // the tolerance; a CIRCLE the chordal tolerance.
       impl_->move_first_line = e.first_line;
       impl_->circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line,
-                           e.origin == MoveOrigin::fitted_arc
-                               ? 0.5 * impl_->o.reduction.tolerance_mm
-                               : impl_->o.chordal_tolerance_mm);
+                           e.origin == MoveOrigin::fitted_arc ? impl_->reducer.arc_tolerance_mm()
+                                                              : impl_->o.chordal_tolerance_mm);
       impl_->move_first_line = 0;
       break;
     case ClEventKind::machine_frame:

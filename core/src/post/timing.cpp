@@ -77,8 +77,7 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   velocity_decimals = templates.velocity_decimals;
   // The motion rate in $VEL.CP goes with the point reduction (--fit-tol 0 writes 0.7's program),
   // and not in SPLINE blocks, which a $VEL.CP ends and which the controller plans whole.
-  interpolation_cycle_s = c.interpolation_cycle_s;
-  rate_vel = reducer.enabled() && !templates.spline && interpolation_cycle_s > 0.0;
+  rate_vel = reducer.enabled() && !templates.spline && c.interpolation_cycle_s > 0.0;
   // Each printed coordinate is within half a unit of its last decimal: an end moves by at most
   // sqrt(3) / 2 of one, the length by twice that.
   rate_length_margin_mm = std::sqrt(3.0) * std::pow(10.0, -templates.position_decimals);
@@ -157,7 +156,7 @@ TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T
   // decimals may take off both ends, so that a check from the written text finds a cycle too.
   if (rate_vel && length_mm > 1e-6) {
     const double printed_mm = length_mm - rate_length_margin_mm;
-    const double rate_mm_s = printed_mm / interpolation_cycle_s;
+    const double rate_mm_s = printed_mm / summary.interpolation_cycle_s;
     if (printed_mm > 0.0 && std::min(t.command_mm_s, t.orientation_cap_mm_s) > rate_mm_s) {
       const double scale = std::pow(10.0, velocity_decimals);
       const double m_per_s = std::max(std::floor(rate_mm_s / 1000.0 * scale) / scale, 1.0 / scale);

@@ -92,6 +92,9 @@ class PointReducer {
   // move within half the angular tolerance; the other half is what the controller's own turn of
   // the frame may add (the session proves it, post/timing.cpp), so the sum stays within it.
   double controller_axis_budget_rad() const { return axis_tolerance_rad_; }
+  // A fitted arc's points are within half the tolerance of its circle; the other half is the
+  // session's, for the controller's circle or the chords it writes instead.
+  double arc_tolerance_mm() const { return 0.5 * o_.tolerance_mm; }
   long moves_in() const { return moves_in_; }    // cutting GOTOs that could be merged
   long moves_out() const { return moves_out_; }  // ... and the moves written for them
   long arcs_out() const { return arcs_out_; }    // ... of which arcs
