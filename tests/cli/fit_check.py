@@ -8,13 +8,15 @@ REFERENCE is the same toolpath converted with --fit-tol 0: one CP motion per CL 
 printed positions and tool axes are the CL points. REDUCED is the program to check. The path of
 REDUCED is interpolated as the controller does: a LIN straight, its orientation turned from one
 frame to the next at the same fraction (the quaternion slerp of KUKA's standard orientation
-control), a CIRC along the circle through its auxiliary point. Every reference point must lie
+control), a CIRC along the circle through its auxiliary point, the segments of a SPLINE block
+as the model of docs/krl-templates.md ("SPL segments") draws them. Every reference point must lie
 within --tol (0.01 mm) of that path, in order, and its tool axis (z of the frame) within
 --ang-tol (0.1 deg) of the path's tool axis where the path passes it, plus what the printed
 decimals can hide (0.001 mm, 0.0002 deg). PTPs split both programs into stretches that must
 match one for one; the reference's first point of a stretch must be a point of the reduced one
 (the reduction never drops the point after a PTP, whose position the program does not print),
-and the reduced motions before it are not checked.
+and the reduced motions before it are not checked. Between the points, every sample of a curve
+(a CIRC, an SPL segment) must lie within --tol of the reference's polyline.
 Prints the largest deviations and fails above the tolerances.
 """
 import math
@@ -103,16 +105,108 @@ def circle_points(a, b, c, sagitta_mm=1e-4):
                   for i in range(3)) for k in range(n + 1)]
 
 
-def stretches(src):
+def unit(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return [x / n for x in v] if n > 0 else [0.0, 0.0, 0.0]
+
+
+def bessel(a, b, c):
+    """Unit tangent at b of the parabola through a, b, c with chord-length parameters."""
+    l1, l2 = math.dist(a, b), math.dist(b, c)
+    if l1 == 0 or l2 == 0:
+        return [0.0, 0.0, 0.0]
+    return unit([(l2 / (l1 + l2)) * (b[i] - a[i]) / l1 + (l1 / (l1 + l2)) * (c[i] - b[i]) / l2
+                 for i in range(3)])
+
+
+def spline_samples(start, block, step_mm=0.05):
+    """The path of a SPLINE block's segments [(keyword, pose)] from `start` (a pose), as the
+    model of docs/krl-templates.md ("SPL segments") draws it: an SLIN straight; an SPL a cubic
+    Hermite curve whose tangent at a point inside the block is the SLIN's next to it (an SLIN
+    dominates), else Bessel's through the point's neighbours, and at the block's ends its own
+    chord. The orientation turned over each segment as on a LIN. Returns the samples after
+    `start` and the indices of those that are curve points between two written points."""
+    pts = [start] + [p for _, p in block]
+    kinds = [k for k, _ in block]
+    n = len(block)
+
+    def tangent(j):  # at pts[j], j = 1 .. n - 1 (inside the block)
+        before, after = kinds[j - 1], kinds[j]
+        if before == "SLIN" and after == "SLIN":
+            return None  # a corner inside the block (the controller stops there)
+        if before == "SLIN":
+            return unit([pts[j][0][i] - pts[j - 1][0][i] for i in range(3)])
+        if after == "SLIN":
+            return unit([pts[j + 1][0][i] - pts[j][0][i] for i in range(3)])
+        return bessel(pts[j - 1][0], pts[j][0], pts[j + 1][0])
+
+    out, curve = [], []
+    for k in range(1, n + 1):
+        p0, p1 = pts[k - 1], pts[k]
+        chord = [p1[0][i] - p0[0][i] for i in range(3)]
+        length = math.sqrt(sum(x * x for x in chord))
+        if kinds[k - 1] != "SPL" or length == 0:
+            out.append(p1)
+            continue
+        t0 = tangent(k - 1) if k - 1 >= 1 else None
+        t1 = tangent(k) if k <= n - 1 else None
+        m0 = chord if t0 is None else [length * x for x in t0]
+        m1 = chord if t1 is None else [length * x for x in t1]
+        steps = max(8, min(20000, math.ceil(length / step_mm)))
+        for s_ in range(1, steps + 1):
+            u = s_ / steps
+            h00, h10 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u
+            h01, h11 = -2 * u**3 + 3 * u**2, u**3 - u**2
+            p = tuple(h00 * p0[0][i] + h10 * m0[i] + h01 * p1[0][i] + h11 * m1[i]
+                      for i in range(3))
+            if s_ < steps:
+                curve.append(len(out))
+            out.append((p, slerp(p0[1], p1[1], u)) if s_ < steps else p1)
+    return out, curve
+
+
+def stretches(src, curves=None):
     """The program's CP motions, split at every PTP: a list of stretches, each a list of
-    (position, quaternion) samples of the path, a CIRC as many samples."""
-    out, cur = [], []
+    (position, quaternion) samples of the path, a CIRC and an SPL segment as many samples.
+    With `curves` (a list), the samples that lie between written points on a curve, per
+    stretch, as lists of indices."""
+    out, cur, cur_curve = [], [], []
+    block = None  # the SPLINE block being read: [(keyword, pose)]
+
+    def close_block():
+        nonlocal block
+        if block and cur:
+            samples, curve = spline_samples(cur[-1], block)
+            cur_curve.extend(len(cur) + i for i in curve)
+            cur.extend(samples)
+        elif block:
+            cur.extend(p for _, p in block)
+        block = None
+
+    def close_stretch():
+        nonlocal cur, cur_curve
+        close_block()
+        if cur:
+            out.append(cur)
+            if curves is not None:
+                curves.append(cur_curve)
+        cur, cur_curve = [], []
+
     for line in program_lines(src):
         code = line.split(";")[0].strip()
         if re.match(r"^(PTP|SPTP)\b", code):
-            if cur:
-                out.append(cur)
-            cur = []
+            close_stretch()
+            continue
+        if re.match(r"^SPLINE\b", code):
+            close_block()
+            block = []
+            continue
+        if re.match(r"^ENDSPLINE\b", code):
+            close_block()
+            continue
+        m = re.match(r"^(SLIN|SPL)\s*\{E6POS:(.*?)\}", code)
+        if m and block is not None:
+            block.append((m.group(1), pose(aggregate(m.group(2)))))
             continue
         m = re.match(r"^(LIN|SLIN)\s*\{E6POS:(.*?)\}", code)
         if m:
@@ -127,9 +221,10 @@ def stretches(src):
             start = cur[-1]
             pts = circle_points(start[0], aux_p, end[0])
             for k, p in enumerate(pts[1:], 1):
+                if k < len(pts) - 1:
+                    cur_curve.append(len(cur))
                 cur.append((p, slerp(start[1], end[1], k / (len(pts) - 1))))
-    if cur:
-        out.append(cur)
+    close_stretch()
     return out
 
 
@@ -150,12 +245,13 @@ def main(argv):
     if len(args) != 2:
         print(__doc__, file=sys.stderr)
         return 2
-    reduced, reference = stretches(args[0]), stretches(args[1])
+    curves = []
+    reduced, reference = stretches(args[0], curves), stretches(args[1])
     if len(reduced) != len(reference):
         print(f"fit_check: {len(reduced)} stretches between PTPs, the reference has "
               f"{len(reference)}")
         return 1
-    worst_d, worst_a, points, failures = 0.0, 0.0, 0, 0
+    worst_d, worst_a, worst_c, points, failures = 0.0, 0.0, 0.0, 0, 0
     for g, (path, ref) in enumerate(zip(reduced, reference)):
         # The reduced stretch may begin with steps along the line from the PTP's end (which the
         # program does not print) to the reference's first point.
@@ -195,10 +291,32 @@ def main(argv):
                 if failures <= 10:
                     print(f"fit_check: stretch {g + 1}: at {p} the tool axis is {a:.4f} deg from "
                           f"the reference's (at most {ang_tol})")
+        # Between the points too: every sample of a curve (a CIRC, an SPL segment) within the
+        # tolerance of the reference's polyline, searched forward along it.
+        r = 0
+        for i in curves[g]:
+            if i < start:
+                continue
+            p = path[i - start][0]
+            found = None
+            for k in range(r, min(len(ref) - 1, r + 5000)):
+                _, d = nearest(ref[k][0], ref[k + 1][0], p)
+                if d <= tol + POS_SLACK_MM:
+                    found = (k, d)
+                    break
+            if found is None:
+                failures += 1
+                if failures <= 10:
+                    print(f"fit_check: stretch {g + 1}: the curve's point {p} is not within "
+                          f"{tol} mm of the CL polyline")
+                continue
+            r = found[0]
+            worst_c = max(worst_c, found[1])
     motions = sum(len(s) for s in reduced)
     print(f"fit_check: {points} reference points, {sum(len(s) for s in reference)} reference "
           f"samples, {motions} path samples; largest deviation {worst_d:.4f} mm and "
-          f"{worst_a:.4f} deg of the tool axis; {failures} outside the tolerance")
+          f"{worst_a:.4f} deg of the tool axis; {failures} outside the tolerance; curves within "
+          f"{worst_c:.4f} mm of the CL polyline")
     return 1 if failures else 0
 
 

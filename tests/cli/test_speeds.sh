@@ -104,6 +104,22 @@ fit() {
     fail "$name: $(grep 'last less than' "$TMP/check")"
 }
 
+# spline_fit NAME CL_FILE: converts CL_FILE with krc4_spline (SPL where the path is smooth) and
+# checks from the written text that every CL point lies within 0.01 mm and 0.1 deg of the path
+# the model of the controller's spline draws through the written points, and that the curve
+# between them stays within 0.01 mm of the CL polyline (fit_check.py, docs/krl-templates.md).
+spline_fit() {
+  local name=$1 cl=$2
+  mkdir -p "$TMP/$name" "$TMP/${name}_ref"
+  run convert "$cl" --cell "$cell" -o "$TMP/$name" --name P --krl krc4_spline -q
+  expect_rc 0
+  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q
+  expect_rc 0
+  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
+    fail "$name: $(cat "$TMP/fit")"
+  echo "cli.speeds: $name: SPL $(grep -c '^SPL ' "$TMP/$name/P.src"), $(cat "$TMP/fit")"
+}
+
 begin "point reduction at 10 000 mm/min: every CL point of the examples and a raster within 0.01 mm and 0.1 deg of the written path"
 $py "$SRC/tests/bench/make_raster_apt.py" 5000 "$TMP/raster5k.apt"
 for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
@@ -111,6 +127,7 @@ for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
   fast "$f" "$TMP/$name.cl"
   fit "$name" "$TMP/$name.cl"
   fit "${name}_circ" "$TMP/$name.cl" --krl krc4_circ
+  spline_fit "${name}_spline" "$TMP/$name.cl"
 done
 # The raster is reduced (its points are 0.5 mm apart: 3 ms at 10 m/min), and then runs at its
 # feed: no motion shorter than the 12 ms cycle.

@@ -93,16 +93,21 @@ Ph placeholder_from_name(std::string_view name);
 // writer would never use them: refused, so that a template edit is never silently ignored).
 // `optional` statements (tools, base coupling, dwell, CIRC) may be left out of a set: the
 // writer refuses, naming the statement, only when a program needs one the set lacks.
-enum class StatementUse { always, spline_only, no_spline_only, optional };
+// `spline_optional` (SPL) may be left out of a spline set, and is refused in any other.
+enum class StatementUse { always, spline_only, no_spline_only, optional, spline_optional };
 struct StatementSpec {
   std::string_view name;
   PhMask allowed;
   StatementUse use;
   bool used_by(bool spline) const {
+    if (use == StatementUse::spline_optional)
+      return spline;
     return use == StatementUse::always || use == StatementUse::optional ||
            (use == StatementUse::spline_only) == spline;
   }
-  bool required(bool spline) const { return use != StatementUse::optional && used_by(spline); }
+  bool required(bool spline) const {
+    return use != StatementUse::optional && use != StatementUse::spline_optional && used_by(spline);
+  }
 };
 const std::vector<StatementSpec>& statement_specs();
 const StatementSpec* find_statement(std::string_view name);

@@ -97,6 +97,7 @@ const std::vector<StatementSpec>& statement_specs() {
       {"spline_begin", 0, StatementUse::spline_only},
       {"spline_lin", kCartesian, StatementUse::spline_only},
       {"spline_end", 0, StatementUse::spline_only},
+      {"spline_spl", kCartesian, StatementUse::spline_optional},
   };
   return specs;
 }

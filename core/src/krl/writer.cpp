@@ -5,6 +5,7 @@
 // writer_render.cpp, and the files (parts, main program, renames) are handled in
 // writer_files.cpp.
 #include "redpost/krl/writer.hpp"
+#include "redpost/krl/spline_model.hpp"
 
 #include <unistd.h>
 
@@ -55,6 +56,11 @@ void check_program_info(const KrlProgramInfo& info) {
                 fmt::format("a program file of at most {} bytes cannot hold a program; the byte "
                             "limit must be at least {} (16 KiB)",
                             info.max_file_bytes, kMinFileBytes));
+  }
+  if (!std::isfinite(info.spline_tolerance_mm) || info.spline_tolerance_mm < 0.0) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("the spline tolerance must be a finite number of mm >= 0, got {}",
+                            info.spline_tolerance_mm));
   }
   if (info.machine_def < 1 || info.ex_axes < 0) {
     throw Error(ErrorCode::bad_input, "MACHINE_DEF index must be >= 1 and ex_axes >= 0");
@@ -123,10 +129,70 @@ void check_output_dir(const std::string& output_dir) {
 
 // --- statements ------------------------------------------------------------------------------
 void KrlWriter::Impl::end_spline() {
+  if (have_pending)
+    write_pending(Eigen::Vector3d::Zero());
   if (in_spline) {
     put(Stmt::spline_end, Values{});
     in_spline = false;
   }
+}
+
+void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
+  have_pending = false;
+  KrlMotion m;
+  m.axes = pending.axes;
+  m.T_base_tcp = pending.T_base_tcp;
+  m.status_turn = pending.status_turn;
+  const bool curved = !pending.start_tangent.isZero() || !end_tangent.isZero();
+  put(curved ? Stmt::spline_spl : Stmt::spline_lin, pose_values(m));
+  for (const std::string& text : pending.after)
+    put(src_out, out_index, text);
+  pending.after.clear();
+}
+
+void KrlWriter::Impl::put_in_block(std::string text) {
+  if (have_pending)
+    pending.after.push_back(std::move(text));
+  else
+    put(src_out, out_index, text);
+}
+
+// A feed move in a set with SPL: the segment held before it learns how its end is passed (a
+// smooth knot, or a corner where the block ends and the next begins), and this one is held.
+void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
+  if (in_spline && spline_points == t.max_spline_points)
+    end_spline();
+  if (!in_spline) {
+    put(Stmt::spline_begin, Values{});
+    in_spline = true;
+    spline_points = 0;
+  }
+  const Eigen::Vector3d p = m.T_base_tcp.translation();
+  Eigen::Vector3d tangent = Eigen::Vector3d::Zero();
+  joined_smoothly = false;
+  if (have_pending) {
+    const Eigen::Vector3d a = pending.start, b = pending.T_base_tcp.translation();
+    if (smooth_knot(a, b, p, info.spline_tolerance_mm)) {
+      tangent = bessel_tangent(a, b, p);
+      joined_smoothly = !tangent.isZero();
+    }
+    if (joined_smoothly) {
+      write_pending(tangent);
+    } else {
+      // A corner: the block ends there and the next one is blended into it ($APO.CDIS).
+      end_spline();
+      put(Stmt::spline_begin, Values{});
+      in_spline = true;
+      spline_points = 0;
+    }
+  }
+  pending.axes = m.axes;
+  pending.T_base_tcp = m.T_base_tcp;
+  pending.status_turn = m.status_turn;
+  pending.start = last_p;
+  pending.start_tangent = tangent;
+  have_pending = true;
+  ++spline_points;
 }
 
 void KrlWriter::Impl::ptp_axes(const AxisValues& axes) {
@@ -186,6 +252,7 @@ KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info
   for (const krl::SkeletonLine& l : w.tpl.src)
     w.src_has_frames = w.src_has_frames || l.block == krl::Ph::frames;
   check_frames(templates, w.tpl, info, w.src_has_frames);
+  w.spl = templates.spline && w.tpl.has(Stmt::spline_spl) && info.spline_tolerance_mm > 0.0;
   w.budget = info.max_file_bytes > 0        ? info.max_file_bytes
              : templates.max_file_bytes > 0 ? templates.max_file_bytes
                                             : kDefaultMaxFileBytes;
@@ -248,8 +315,9 @@ void KrlWriter::motion(const KrlMotion& m) {
   if (w.info.cl_line_every > 0 && m.cl_line > 0 && w.motion_count % w.info.cl_line_every == 0) {
     Impl::Values v;
     v.integer = m.cl_line;
-    w.put(Stmt::cl_line, v);
+    w.put_in_block(w.render(Stmt::cl_line, v));
   }
+  w.joined_smoothly = false;
 
   if (!w.have_last) {
     // The first motion of a program is always a full-axis PTP: it fixes the posture, and the
@@ -267,6 +335,10 @@ void KrlWriter::motion(const KrlMotion& m) {
         break;
       case KrlMotionKind::lin: {
         w.flush_velocity();
+        if (w.spl) {
+          w.spline_feed_move(m);
+          break;
+        }
         const Impl::Values v = w.pose_values(m);
         if (w.t.spline) {
           if (w.in_spline && w.spline_points == w.t.max_spline_points)
@@ -286,6 +358,7 @@ void KrlWriter::motion(const KrlMotion& m) {
     }
   }
   w.last_axes = m.axes;
+  w.last_p = m.T_base_tcp.translation();
   w.have_last = true;
   ++w.motion_count;
   ++w.motions_in_module;
@@ -355,6 +428,14 @@ void KrlWriter::dwell(double seconds) {
   w.put(Stmt::dwell, v);
 }
 
+bool KrlWriter::has_spl() const {
+  return impl_->spl;
+}
+
+bool KrlWriter::joined_smoothly() const {
+  return impl_->joined_smoothly;
+}
+
 bool KrlWriter::has_circ() const {
   return impl_->tpl.has(Stmt::circ) && !impl_->t.spline;
 }
@@ -422,7 +503,7 @@ void KrlWriter::comment(const std::string& text) {
   const std::string clean = one_line(text);
   w.ensure_room(static_cast<long>(clean.size() + 256));
   v.text = clean;
-  w.put(Stmt::comment, v);  // a comment may stand inside a spline block
+  w.put_in_block(w.render(Stmt::comment, v));  // a comment may stand inside a spline block
 }
 
 void KrlWriter::literal(const std::string& text) {

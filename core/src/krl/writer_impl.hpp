@@ -67,6 +67,23 @@ struct KrlWriter::Impl {
   int motions_in_module = 0;
   bool in_spline = false;
   int spline_points = 0;
+  // SPL (docs/krl-templates.md, "SPL segments"): in a spline set with spline_spl and a spline
+  // tolerance, the feed move last given is held until the next one shows whether the block
+  // passes its end smoothly (an SPL knot) or ends there (a corner); the lines that came after
+  // it (comments) wait with it.
+  bool spl = false;
+  struct PendingSegment {
+    AxisValues axes;
+    Isometry T_base_tcp = Isometry::Identity();
+    StatusTurn status_turn;
+    Eigen::Vector3d start = Eigen::Vector3d::Zero();          // where it starts
+    Eigen::Vector3d start_tangent = Eigen::Vector3d::Zero();  // unit at a smooth start, or 0
+    std::vector<std::string> after;
+  };
+  bool have_pending = false;
+  PendingSegment pending;
+  Eigen::Vector3d last_p = Eigen::Vector3d::Zero();  // where the last motion ended
+  bool joined_smoothly = false;                      // the last feed move's start is a smooth knot
   double vel_requested = std::numeric_limits<double>::quiet_NaN();
   std::string vel_written;  // the last $VEL.CP statement, to skip repeats
   bool have_last = false;
@@ -139,6 +156,12 @@ struct KrlWriter::Impl {
 
   // --- statements (writer.cpp) ---------------------------------------------------------------
   void end_spline();
+  // The held segment, as SPL when one of its ends is a smooth knot (end_tangent non-zero, or
+  // its start's), else as SLIN; then the lines that waited with it.
+  void write_pending(const Eigen::Vector3d& end_tangent);
+  // A line inside a spline block: after the held segment, if there is one.
+  void put_in_block(std::string text);
+  void spline_feed_move(const KrlMotion& m);
   void ptp_axes(const AxisValues& axes);
   Values pose_values(const KrlMotion& m);
   void flush_velocity();

@@ -38,6 +38,7 @@ enum class Stmt {
   base_coupled,
   dwell,
   circ,
+  spline_spl,
   count_
 };
 inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
@@ -63,7 +64,8 @@ inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
                                                   "base_static",
                                                   "base_coupled",
                                                   "dwell",
-                                                  "circ"};
+                                                  "circ",
+                                                  "spline_spl"};
 static_assert(std::size(kStmtNames) == static_cast<size_t>(Stmt::count_));
 
 constexpr std::string_view stmt_name(Stmt s) {

@@ -17,9 +17,18 @@ namespace redpost {
 
 namespace {
 
+// In a spline set with SPL, the share of the fit tolerance left to the lines the point
+// reduction merges (only nearly straight runs: a curve is better drawn by the spline through its
+// points); the rest is the SPL segments' (krl/spline_model.hpp).
+constexpr double kSplineLineShare = 0.1;
+
 // The writer's program settings that come from the cell: how $BASE is set (a turntable as a
 // mathematically coupled kinematic), the number of external axes, the tool change routine.
-KrlProgramInfo program_for(const Cell& cell, KrlProgramInfo info) {
+KrlProgramInfo program_for(const Cell& cell, const PostOptions& o) {
+  KrlProgramInfo info = o.program;
+  // SPL knots in a spline set get most of the fit tolerance; the lines merged before them the
+  // rest (reduction_for), so that a dropped point is within the sum of the written curve.
+  info.spline_tolerance_mm = (1.0 - kSplineLineShare) * o.reduction.tolerance_mm;
   const ControllerSettings& c = cell.controller;
   if (c.coupled_base_joint >= 0) {
     info.base_coupled = true;
@@ -49,6 +58,8 @@ ClExpanderOptions expander_options(const PostOptions& o) {
 PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& writer) {
   PointReductionOptions r = o.reduction;
   r.arcs = writer.has_circ() && o.deflection == DeflectionMode::off;
+  if (writer.has_spl())
+    r.tolerance_mm *= kSplineLineShare;
   return r;
 }
 
@@ -59,7 +70,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       o(options),
       active_cell(&c),
       tracker(c, options.tracker),
-      writer(templates, program_for(c, options.program)),
+      writer(templates, program_for(c, options)),
       arm(make_arm_status_model(c)),
       spin_last(last_pure_spin(c)),
       templates_position_decimals(templates.position_decimals),

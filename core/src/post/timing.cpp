@@ -325,6 +325,7 @@ void PostSession::Impl::write_lin(const JointVector& q, int cl_line,
   }
   writer.velocity(t.command_mm_s / 1000.0);
   writer.motion(m);
+  t.entry_smooth = writer.joined_smoothly();
   after_write(m, q, t);
   remember_written(q, T1);
 }

@@ -142,24 +142,35 @@ void PathTimer::push(const TimedMotion& motion) {
       e.accel_joint = -1;
     // The motion block takes at least one interpolation cycle (the controller prepares one
     // block per cycle at most): cruise at most length / cycle.
-    if (controller_.interpolation_cycle_s > 0.0 && motion.length_mm > 0.0) {
+    e.cruise_free = e.cruise;
+    // A segment that joins the one before it smoothly in a SPLINE block is part of one path
+    // the controller plans whole and samples on its cycle: no cycle of its own (nor for the
+    // segment before it, below).
+    if (controller_.interpolation_cycle_s > 0.0 && motion.length_mm > 0.0 && !motion.entry_smooth) {
       e.rate_cap = motion.length_mm / controller_.interpolation_cycle_s;
       e.cruise = std::min(e.cruise, e.rate_cap);
     }
     if (motion.curvature_per_mm > 0.0) {
       e.curvature_cap = std::sqrt(controller_.path_acceleration_mm_s2 / motion.curvature_per_mm);
       e.cruise = std::min(e.cruise, e.curvature_cap);
+      e.cruise_free = std::min(e.cruise_free, e.curvature_cap);
     }
   }
   if (!buffer_.empty()) {
     Entry& prev = buffer_.back();
     prev.junction = 0.0;
     prev.corner_joint = -1;
-    const bool blended = prev.m.kind == TimedMotion::Kind::cp &&
-                         e.m.kind == TimedMotion::Kind::cp && !prev.m.stop_after &&
-                         prev.m.blend_mm > 0.0;
+    const bool cp_pair = prev.m.kind == TimedMotion::Kind::cp &&
+                         e.m.kind == TimedMotion::Kind::cp && !prev.m.stop_after;
+    const bool smooth = cp_pair && e.m.entry_smooth;
+    if (smooth) {
+      prev.cruise = prev.cruise_free;
+      prev.rate_cap = std::numeric_limits<double>::infinity();
+    }
+    const bool blended = cp_pair && (smooth || prev.m.blend_mm > 0.0);
     if (blended) {
-      const double d = std::min({prev.m.blend_mm, 0.5 * prev.m.length_mm, 0.5 * e.m.length_mm});
+      const double reach = smooth ? std::numeric_limits<double>::infinity() : prev.m.blend_mm;
+      const double d = std::min({reach, 0.5 * prev.m.length_mm, 0.5 * e.m.length_mm});
       double v = std::min(prev.cruise, e.cruise);
       int which = -1;
       if (d > 0.0) {
@@ -334,6 +345,7 @@ void PathTimer::emit_front(std::size_t count) {
               : 0.0;
       // What kept it below the asked speed.
       if (controller_.interpolation_cycle_s > 0.0 && m.length_mm > 0.0 &&
+          std::isfinite(e.rate_cap) &&
           m.length_mm < std::min(m.command_mm_s, m.orientation_cap_mm_s) *
                             controller_.interpolation_cycle_s * kBelowCycle)
         t.below_cycle = true;

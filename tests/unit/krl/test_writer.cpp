@@ -94,7 +94,7 @@ struct MotionLine {
 };
 
 std::vector<MotionLine> motion_lines(const std::vector<std::string>& lines) {
-  static const std::regex motion(R"(^(PTP|LIN|SLIN) \{(E6POS|E6AXIS): ([^}]*)\}( C_DIS)?$)");
+  static const std::regex motion(R"(^(PTP|LIN|SLIN|SPL) \{(E6POS|E6AXIS): ([^}]*)\}( C_DIS)?$)");
   static const std::regex item(R"(^\s*([A-Z][A-Z0-9]*) (-?[0-9]+(\.[0-9]+)?)$)");
   std::vector<MotionLine> out;
   for (size_t i = 0; i < lines.size(); ++i) {
@@ -561,6 +561,72 @@ TEST_CASE("krl_writer: spline blocks hold at most max-points SLINs") {
   REQUIRE(ml.size() == motions.size());
   for (size_t i = 1; i < ml.size(); ++i)
     check_pose(ml[i], motions[i]);
+}
+
+TEST_CASE("krl_writer: SPL where the path is smooth, a new block at every corner") {
+  // A quarter circle of 60 segments (smooth), then a corner, a straight line of two segments
+  // (collinear points pass smoothly too), another corner and a last segment alone (an SLIN
+  // between two corners). The blocks' segments are read back from the text.
+  const Cell cell = test::shipped_cell("kr15_2");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_spline"));
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 0; k <= 60; ++k) {
+    const double phi = 0.5 * M_PI * k / 60.0;
+    points.emplace_back(600.0 + 40.0 * std::cos(phi), 40.0 * std::sin(phi), 500.0);
+  }
+  points.emplace_back(600.0, 40.0, 540.0);  // up: a 90 deg corner (the arc ends along -x)
+  points.emplace_back(600.0, 40.0, 580.0);
+  points.emplace_back(600.0, 80.0, 580.0);  // another corner
+  std::vector<KrlMotion> motions = make_motions(cell, static_cast<int>(points.size()), 5, 0);
+  for (size_t i = 0; i < points.size(); ++i)
+    motions[i].T_base_tcp.translation() = points[i];
+  for (const double tolerance : {0.0, 0.009}) {
+    TempDir dir;
+    KrlProgramInfo info = info_for(dir, "SMOOTH");
+    info.spline_tolerance_mm = tolerance;
+    std::vector<bool> smooth;
+    {
+      KrlWriter w(set, info);
+      w.velocity(0.1);
+      for (const KrlMotion& m : motions) {
+        w.motion(m);
+        smooth.push_back(w.joined_smoothly());
+      }
+      CHECK(w.has_spl() == (tolerance > 0.0));
+      w.finish();
+    }
+    std::vector<std::string> kinds;  // per block: "SPL"/"SLIN" per segment
+    std::string block;
+    for (const std::string& l : split_lines(read_bytes(dir.path / "SMOOTH.src"))) {
+      if (l == "SPLINE")
+        block.clear();
+      else if (l == "ENDSPLINE C_SPL")
+        kinds.push_back(block);
+      else if (l.rfind("SPL ", 0) == 0)
+        block += "S";
+      else if (l.rfind("SLIN ", 0) == 0)
+        block += "L";
+    }
+    if (tolerance == 0.0) {
+      // Every feed move an SLIN, in one block: the program of 0.7.
+      CHECK(kinds == std::vector<std::string>{std::string(points.size() - 1, 'L')});
+      CHECK(std::none_of(smooth.begin(), smooth.end(), [](bool b) { return b; }));
+    } else {
+      // The arc's 60 segments and its corner end one block; the line of two, then the last.
+      CHECK(kinds == std::vector<std::string>{std::string(60, 'S'), "SS", "L"});
+      // The arc's inner points are smooth knots; the corners and the block starts are not.
+      for (size_t i = 0; i < smooth.size(); ++i) {
+        INFO("motion " << i);
+        CHECK(smooth[i] == (i >= 2 && i <= 60 || i == 62));
+      }
+    }
+    // The positions are the points given, whatever the keyword.
+    const std::vector<MotionLine> ml =
+        motion_lines(split_lines(read_bytes(dir.path / "SMOOTH.src")));
+    REQUIRE(ml.size() == motions.size());
+    for (size_t i = 1; i < ml.size(); ++i)
+      check_pose(ml[i], motions[i]);
+  }
 }
 
 TEST_CASE("krl_writer: splitting into a main program and parts") {

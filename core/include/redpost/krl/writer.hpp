@@ -52,6 +52,10 @@ struct KrlProgramInfo {
   int ex_axes = 0;
   // The cell's tool change routine ({routine} in tool_change); empty: tool_change_manual.
   std::string tool_change_routine;
+  // In a spline set with a spline_spl statement: how far (mm) the model of the controller's
+  // spline (krl/spline_model.hpp) may leave each segment's chord where the block passes a point
+  // smoothly as SPL. 0: every feed move an SLIN, and every point of a block passed as written.
+  double spline_tolerance_mm = 0.0;
 };
 
 // A tool change as the program writes it (docs/tools.md).
@@ -100,6 +104,11 @@ class KrlWriter {
   // one CIRC; the set must have a circ statement (has_circ()). The caller proves it safe.
   void circ(const KrlMotion& aux, const KrlMotion& end);
   bool has_circ() const;
+  // The feed move last given starts at a point the spline block passes smoothly (an SPL knot:
+  // no corner there for the time model). False in sets without SPL.
+  bool joined_smoothly() const;
+  // A spline set with spline_spl and a spline tolerance: feed moves may be written as SPL.
+  bool has_spl() const;
   // The tool change statement (the cell's routine, or tool_change_manual), then tool_select.
   void tool_change(const KrlToolChange& change);
   void dwell(double seconds);                // the set's dwell statement (WAIT SEC)

@@ -95,7 +95,10 @@ struct TimedMotion {
   JointVector entry_rate, exit_rate;
   Eigen::Vector3d tangent = Eigen::Vector3d::Zero();  // at the start
   Eigen::Vector3d exit_tangent = Eigen::Vector3d::Zero();
-  double blend_mm = 0.0;       // blending distance at its end; 0: exact stop
+  double blend_mm = 0.0;  // blending distance at its end; 0: exact stop
+  // It starts at a point a SPLINE block passes smoothly (an SPL knot): the turn there is spread
+  // over half of the shorter of its two segments, whatever the blend before it.
+  bool entry_smooth = false;
   bool stop_after = false;     // a statement after it stops the advance (HALT, WAIT, a call)
   double dwell_after_s = 0.0;  // WAIT SEC after it
   // PTP: its time, stop to stop; and the joint that sets it.
@@ -148,11 +151,12 @@ class PathTimer {
  private:
   struct Entry {
     TimedMotion m;
-    double cruise = 0.0;    // cruise speed cap
-    double accel = 0.0;     // path acceleration
-    int accel_joint = -1;   // joint that set accel (below $ACC.CP), -1
-    double junction = 0.0;  // cap of the junction at its end
-    int corner_joint = -1;  // joint whose corner term set `junction` (-2: the TCP direction)
+    double cruise = 0.0;       // cruise speed cap
+    double accel = 0.0;        // path acceleration
+    int accel_joint = -1;      // joint that set accel (below $ACC.CP), -1
+    double junction = 0.0;     // cap of the junction at its end
+    int corner_joint = -1;     // joint whose corner term set `junction` (-2: the TCP direction)
+    double cruise_free = 0.0;  // the cruise cap without the motion rate (an SPL segment's)
     double rate_cap = std::numeric_limits<double>::infinity();       // length / interpolation cycle
     double curvature_cap = std::numeric_limits<double>::infinity();  // sqrt(a_path r)
     bool lookahead_bound = false;  // the look-ahead lowered `junction`
