@@ -52,10 +52,14 @@ int run_check(const CheckOptions& opt) {
       continue;
     out += fmt::format(
         "{}: motion rate: {} of {} CP motions ({:.1f} %) last less than one {:g} ms "
-        "interpolation cycle at their $VEL.CP; the shortest {:.1f} ms at {}:{}\n",
+        "interpolation cycle at their $VEL.CP; the shortest {:.1f} ms at {}:{}{}\n",
         file, r.below_cycle, r.cp_motions,
         100.0 * static_cast<double>(r.below_cycle) / static_cast<double>(r.cp_motions),
-        opt.ipo_cycle_ms, 1000.0 * r.shortest_s, r.shortest_file, r.shortest_line);
+        opt.ipo_cycle_ms, 1000.0 * r.shortest_s, r.shortest_file, r.shortest_line,
+        r.spline_joined > 0 ? fmt::format(" ({} SPLINE segments joined smoothly not counted: "
+                                          "one path to the controller)",
+                                          r.spline_joined)
+                            : std::string());
   }
   std::fwrite(out.data(), 1, out.size(), stdout);
   return failed ? kExitDifferent : kExitOk;

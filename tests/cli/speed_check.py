@@ -140,7 +140,16 @@ def main(argv):
     vel = None
     ori = 200.0
     motions = []  # (kind, values, aux, vel, ori)
+    block = nblocks = 0  # the SPLINE block a motion is in (0: none), for "joined" below
+    blocks = []
     for code in program_lines(src):
+        if re.match(r"^SPLINE\b", code):
+            nblocks += 1
+            block = nblocks
+            continue
+        if re.match(r"^ENDSPLINE\b", code):
+            block = 0
+            continue
         m = re.match(r"^\$VEL\.CP = (%s)$" % NUM, code)
         if m:
             vel = float(m.group(1)) * 1000.0  # mm/s
@@ -158,16 +167,22 @@ def main(argv):
             am = re.match(r"^\{X (%s), Y (%s), Z (%s)\}, (.*)$" % (NUM, NUM, NUM), rest)
             aux = [float(am.group(i)) for i in (1, 2, 3)]
             rest = am.group(4)
-        motions.append((kind, aggregate(rest), aux, vel, ori))
+        # A spline segment's own speed (SLIN/SPL ... WITH $VEL.CP = v), for it alone.
+        wm = re.search(r"\bWITH\b.*\$VEL\.CP = (%s)" % NUM, rest)
+        motions.append((kind, aggregate(rest), aux,
+                        float(wm.group(1)) * 1000.0 if wm else vel, ori))
+        blocks.append(block)
 
     # Match the motions to the log's rows by their printed axes.
     matched = []
     r = 0
-    for kind, values, aux, v, o in motions:
+    matched_blocks = []
+    for i, (kind, values, aux, v, o) in enumerate(motions):
         if r < len(rows):
             ok = all(abs(rows[r][col[a]] - values[a]) < 2e-3 for a in values if a in col)
             if ok:
                 matched.append((kind, values, aux, v, o, rows[r]))
+                matched_blocks.append(blocks[i])
                 r += 1
                 continue
         if kind == "PTP" and matched:
@@ -182,6 +197,12 @@ def main(argv):
     worst, worst_at = 0.0, None
     cut_written = cut_feed = cut_clocked = cut_axes = 0.0
     cp_count = short = unmeasured = at_rate = 0
+    def joined(k):
+        """Motion k joins motion k - 1 smoothly: one SPLINE block, one of them an SPL (one path
+        the controller plans whole: docs/timing.md, "SPLINE blocks")."""
+        return 0 < k < len(matched) and matched_blocks[k] > 0 and \
+            matched_blocks[k] == matched_blocks[k - 1] and "SPL" in (matched[k][0], matched[k - 1][0])
+
     for k in range(1, len(matched)):
         kind, values, aux, v, o, row = matched[k]
         pk, pvalues, _, _, _, prow = matched[k - 1]
@@ -201,12 +222,13 @@ def main(argv):
                                           rotation(values["A"], values["B"], values["C"])))
         time = max(length / v, turn / o)
         cp_count += 1
-        if 0.0 < time < cycle * (1.0 - 1e-4):  # as docs/timing.md counts them
-            short += 1
+        if 0.0 < time < cycle * (1.0 - 1e-4) and not (joined(k) or joined(k + 1)):
+            short += 1  # as docs/timing.md counts them
         if feed is not None and v <= feed / 60.0 * (1.0 + 1e-5):
             cut_written += length / v
             cut_feed += length / (feed / 60.0)
-            cut_clocked += max(length / v, cycle) if time > 0.0 else 0.0
+            floor = 0.0 if joined(k) or joined(k + 1) else cycle
+            cut_clocked += max(length / v, floor) if time > 0.0 else 0.0
             # Written at the motion rate: slower than the feed, and one cycle long (the session
             # takes the length short by the rounding of both ends, up to 5 % on 0.05 mm).
             rate = v < feed / 60.0 * (1.0 - 1e-6) and \

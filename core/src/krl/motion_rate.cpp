@@ -44,6 +44,16 @@ Pose pose_of(const KrlAggregate& t, const Pose& before) {
   return out;
 }
 
+// Motion i joins motion i - 1 smoothly: both in one SPLINE block, and one of them an SPL (an
+// SLIN next to an SPL gives their shared point its direction).
+bool joins_smoothly(const std::vector<KrlMotionRecord>& motions, std::size_t i) {
+  if (i == 0 || i >= motions.size())
+    return false;
+  const KrlMotionRecord &a = motions[i - 1], &b = motions[i];
+  return b.spline_block > 0 && a.spline_block == b.spline_block &&
+         (krl::upper(a.keyword) == "SPL" || krl::upper(b.keyword) == "SPL");
+}
+
 }  // namespace
 
 KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options) {
@@ -58,7 +68,8 @@ KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOpti
       out.stretches.push_back(open);
     open = KrlShortStretch{};
   };
-  for (const KrlMotionRecord& m : program.motions) {
+  for (std::size_t i = 0; i < program.motions.size(); ++i) {
+    const KrlMotionRecord& m = program.motions[i];
     const std::string kw = krl::upper(m.keyword);
     if (m.relative || !cartesian(m.target)) {
       // An axis-only target (a PTP to an E6AXIS): where the TCP is next is not known here.
@@ -93,6 +104,13 @@ KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOpti
     if (!(seconds > 0.0))
       continue;  // nothing moves: not a motion the controller times
     ++out.cp_motions;
+    // A segment joined smoothly to its neighbour is part of a path the controller plans whole
+    // (docs/timing.md, "SPLINE blocks"): no cycle of its own.
+    if (joins_smoothly(program.motions, i) || joins_smoothly(program.motions, i + 1)) {
+      ++out.spline_joined;
+      close();
+      continue;
+    }
     if (out.shortest_line == 0 || seconds < out.shortest_s) {
       out.shortest_s = seconds;
       out.shortest_file = m.file;

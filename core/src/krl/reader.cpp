@@ -101,6 +101,8 @@ class Reader {
   std::set<std::string> warned_;
   State state_;
   int spline_start_ = -1;  // index in out_.motions where the open SPLINE block started
+  int spline_blocks_ = 0;  // SPLINE blocks opened so far
+  int spline_block_ = 0;   // the open one (0: none)
 
   const Module& module(const std::string& path) {
     std::error_code ec;
@@ -166,6 +168,7 @@ class Reader {
     std::string rest = trim(code.substr(w.size()));
     if (w == "SPLINE" || w == "PTP_SPLINE") {
       spline_start_ = static_cast<int>(out_.motions.size());
+      spline_block_ = ++spline_blocks_;
       return;
     }
     if (w == "ENDSPLINE" || w == "ENDPTP_SPLINE") {
@@ -174,6 +177,7 @@ class Reader {
           static_cast<int>(out_.motions.size()) > spline_start_)
         out_.motions.back().approximation = a;
       spline_start_ = -1;
+      spline_block_ = 0;
       return;
     }
     if (!rest.empty() && rest[0] == '=' && (rest.size() < 2 || rest[1] != '=')) {
@@ -256,6 +260,34 @@ class Reader {
     long v = std::strtol(num.c_str(), &end, 10);
     if (end != num.c_str() && v > 0)
       state_.cl_line = static_cast<int>(v);
+  }
+
+  // A motion's WITH list (SLIN ... WITH $VEL.CP = 0.2, $TOOL = ...): its own $VEL.CP is its
+  // speed, for this motion only; the other parameters are not tracked.
+  void with_parameters(const std::string& list, KrlMotionRecord& r, const std::string& file,
+                       int line) {
+    int depth = 0;
+    std::size_t from = 0;
+    for (std::size_t i = 0; i <= list.size(); ++i) {
+      const char ch = i < list.size() ? list[i] : ',';
+      depth += (ch == '{' || ch == '(') - (ch == '}' || ch == ')');
+      if (ch != ',' || depth > 0)
+        continue;
+      const std::string item = list.substr(from, i - from);
+      from = i + 1;
+      const std::size_t eq = item.find('=');
+      if (eq == std::string::npos || upper(trim(item.substr(0, eq))) != "$VEL.CP")
+        continue;
+      const std::string rhs = trim(item.substr(eq + 1));
+      char* end = nullptr;
+      const double v = std::strtod(rhs.c_str(), &end);
+      if (end == rhs.c_str() || !trim(std::string(end)).empty() || !(v > 0.0)) {
+        warn_once("with-vel-expr", file, line,
+                  "WITH $VEL.CP = " + rhs + " is not a speed: the $VEL.CP in force is used");
+        continue;
+      }
+      r.vel_cp_m_per_s = v;
+    }
   }
 
   void assignment(const std::string& file, int line, std::string lhs, const std::string& rhs) {
@@ -384,6 +416,7 @@ class Reader {
     r.line = line;
     r.cl_line = state_.cl_line;
     r.vel_cp_m_per_s = state_.vel_cp;
+    r.spline_block = spline_block_;
     r.apo_cdis_mm = state_.apo_cdis;
     r.ptp_velocity_percent = state_.ptp_velocity;
     r.base = state_.base;
@@ -416,7 +449,8 @@ class Reader {
       } else if (w == "CA") {
         parse_real_field(c, "CA");
       } else if (w == "WITH") {
-        break;  // SLIN ... WITH $VEL = ...: per-motion parameters are not tracked
+        with_parameters(c.text.substr(c.pos), r, m.src_path, line);
+        break;
       } else {
         fail(m.src_path, line, "unexpected '" + w + "' after the " + kw + " target");
       }

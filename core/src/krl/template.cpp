@@ -98,6 +98,8 @@ const std::vector<StatementSpec>& statement_specs() {
       {"spline_lin", kCartesian, StatementUse::spline_only},
       {"spline_end", 0, StatementUse::spline_only},
       {"spline_spl", kCartesian, StatementUse::spline_optional},
+      {"spline_lin_vel", kCartesian | bit(Ph::vel), StatementUse::spline_optional},
+      {"spline_spl_vel", kCartesian | bit(Ph::vel), StatementUse::spline_optional},
   };
   return specs;
 }

@@ -144,7 +144,13 @@ void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
   m.T_base_tcp = pending.T_base_tcp;
   m.status_turn = pending.status_turn;
   const bool curved = !pending.start_tangent.isZero() || !end_tangent.isZero();
-  put(curved ? Stmt::spline_spl : Stmt::spline_lin, pose_values(m));
+  Values v = pose_values(m);
+  if (std::isnan(pending.vel)) {
+    put(curved ? Stmt::spline_spl : Stmt::spline_lin, v);
+  } else {
+    v.number_value = pending.vel;
+    put(curved ? Stmt::spline_spl_vel : Stmt::spline_lin_vel, v);
+  }
   for (const std::string& text : pending.after)
     put(src_out, out_index, text);
   pending.after.clear();
@@ -159,14 +165,18 @@ void KrlWriter::Impl::put_in_block(std::string text) {
 
 // A feed move in a set with SPL: the segment held before it learns how its end is passed (a
 // smooth knot, or a corner where the block ends and the next begins), and this one is held.
+void KrlWriter::Impl::begin_spline() {
+  flush_velocity();
+  put(Stmt::spline_begin, Values{});
+  in_spline = true;
+  spline_points = 0;
+}
+
 void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
   if (in_spline && spline_points == t.max_spline_points)
     end_spline();
-  if (!in_spline) {
-    put(Stmt::spline_begin, Values{});
-    in_spline = true;
-    spline_points = 0;
-  }
+  if (!in_spline)
+    begin_spline();
   const Eigen::Vector3d p = m.T_base_tcp.translation();
   Eigen::Vector3d tangent = Eigen::Vector3d::Zero();
   joined_smoothly = false;
@@ -181,10 +191,15 @@ void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
     } else {
       // A corner: the block ends there and the next one is blended into it ($APO.CDIS).
       end_spline();
-      put(Stmt::spline_begin, Values{});
-      in_spline = true;
-      spline_points = 0;
+      begin_spline();
     }
+  }
+  pending.vel = std::numeric_limits<double>::quiet_NaN();
+  if (segment_vel) {
+    Values v;
+    v.number_value = vel_requested;
+    if (render(Stmt::vel, v) != vel_written)
+      pending.vel = vel_requested;
   }
   pending.axes = m.axes;
   pending.T_base_tcp = m.T_base_tcp;
@@ -216,13 +231,7 @@ KrlWriter::Impl::Values KrlWriter::Impl::pose_values(const KrlMotion& m) {
 }
 
 void KrlWriter::Impl::flush_velocity() {
-  if (std::isnan(vel_requested)) {
-    throw Error(ErrorCode::bad_input,
-                fmt::format("program '{}', motion {}: a feed move before any feed rate "
-                            "(velocity() was never called); refusing to write a LIN at the "
-                            "controller's default speed",
-                            info.name, motion_count + 1));
-  }
+  require_velocity();
   Values v;
   v.number_value = vel_requested;
   std::string text = render(Stmt::vel, v);
@@ -230,6 +239,16 @@ void KrlWriter::Impl::flush_velocity() {
     end_spline();
     put(src_out, out_index, text);
     vel_written = std::move(text);
+  }
+}
+
+void KrlWriter::Impl::require_velocity() const {
+  if (std::isnan(vel_requested)) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("program '{}', motion {}: a feed move before any feed rate "
+                            "(velocity() was never called); refusing to write a LIN at the "
+                            "controller's default speed",
+                            info.name, motion_count + 1));
   }
 }
 
@@ -253,6 +272,7 @@ KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info
     w.src_has_frames = w.src_has_frames || l.block == krl::Ph::frames;
   check_frames(templates, w.tpl, info, w.src_has_frames);
   w.spl = templates.spline && w.tpl.has(Stmt::spline_spl) && info.spline_tolerance_mm > 0.0;
+  w.segment_vel = w.spl && w.tpl.has(Stmt::spline_lin_vel) && w.tpl.has(Stmt::spline_spl_vel);
   w.budget = info.max_file_bytes > 0        ? info.max_file_bytes
              : templates.max_file_bytes > 0 ? templates.max_file_bytes
                                             : kDefaultMaxFileBytes;
@@ -334,7 +354,11 @@ void KrlWriter::motion(const KrlMotion& m) {
         w.put(Stmt::rapid, w.pose_values(m));
         break;
       case KrlMotionKind::lin: {
-        w.flush_velocity();
+        // With speeds per segment, a new $VEL.CP is written only between blocks.
+        if (w.segment_vel && w.in_spline)
+          w.require_velocity();
+        else
+          w.flush_velocity();
         if (w.spl) {
           w.spline_feed_move(m);
           break;

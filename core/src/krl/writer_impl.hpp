@@ -72,12 +72,16 @@ struct KrlWriter::Impl {
   // passes its end smoothly (an SPL knot) or ends there (a corner); the lines that came after
   // it (comments) wait with it.
   bool spl = false;
+  // ... and with spline_lin_vel and spline_spl_vel, a segment whose $VEL.CP differs from the
+  // block's carries its own (WITH $VEL.CP): a change of speed no longer ends the block.
+  bool segment_vel = false;
   struct PendingSegment {
     AxisValues axes;
     Isometry T_base_tcp = Isometry::Identity();
     StatusTurn status_turn;
     Eigen::Vector3d start = Eigen::Vector3d::Zero();          // where it starts
     Eigen::Vector3d start_tangent = Eigen::Vector3d::Zero();  // unit at a smooth start, or 0
+    double vel = std::numeric_limits<double>::quiet_NaN();    // its own $VEL.CP; NaN: the block's
     std::vector<std::string> after;
   };
   bool have_pending = false;
@@ -162,9 +166,11 @@ struct KrlWriter::Impl {
   // A line inside a spline block: after the held segment, if there is one.
   void put_in_block(std::string text);
   void spline_feed_move(const KrlMotion& m);
+  void begin_spline();  // $VEL.CP first if it changed, then the block's start
   void ptp_axes(const AxisValues& axes);
   Values pose_values(const KrlMotion& m);
   void flush_velocity();
+  void require_velocity() const;  // a feed move needs a velocity() before it
   void restate();
 };
 

@@ -39,6 +39,8 @@ enum class Stmt {
   dwell,
   circ,
   spline_spl,
+  spline_lin_vel,
+  spline_spl_vel,
   count_
 };
 inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
@@ -65,7 +67,9 @@ inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
                                                   "base_coupled",
                                                   "dwell",
                                                   "circ",
-                                                  "spline_spl"};
+                                                  "spline_spl",
+                                                  "spline_lin_vel",
+                                                  "spline_spl_vel"};
 static_assert(std::size(kStmtNames) == static_cast<size_t>(Stmt::count_));
 
 constexpr std::string_view stmt_name(Stmt s) {

@@ -75,3 +75,47 @@ TEST_CASE("motion rate: the motions shorter than a 12 ms cycle at the $VEL.CP in
   REQUIRE(check_krl((dir / "P.src").string(), o).size() == 1);
   fs::remove_all(dir);
 }
+
+TEST_CASE("motion rate: SPLINE segments joined smoothly are one path; WITH $VEL.CP is theirs") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "redpost_motion_rate_spline";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // At 0.1 m/s a cycle is 1.2 mm. In the first block, 1 mm SPL segments (and the SLIN before
+  // them, which an SPL joins) are one path: not counted. The block's last segment has its own
+  // speed, 0.2 m/s: 2 mm lasts 10 ms. The second block's lone 1 mm SLIN is a motion of its own.
+  std::ofstream(dir / "P.src", std::ios::binary)
+      << "DEF P( )\r\n"                                                    // 1
+         "$VEL.CP = 0.1\r\n"                                               // 2
+         "LIN {X 0, Y 0, Z 0, A 0, B 0, C 0}\r\n"                          // 3 unmeasured
+         "SPLINE\r\n"                                                      // 4
+         "SLIN {X 1, Y 0, Z 0, A 0, B 0, C 0}\r\n"                         // 5 joined
+         "SPL {X 2, Y 0.1, Z 0, A 0, B 0, C 0}\r\n"                        // 6 joined
+         "SPL {X 3, Y 0.3, Z 0, A 0, B 0, C 0}\r\n"                        // 7 joined
+         "SLIN {X 5, Y 0.3, Z 0, A 0, B 0, C 0} WITH $VEL.CP = 0.2\r\n"    // 8 joined (by 7)
+         "SLIN {X 25, Y 0.3, Z 0, A 0, B 0, C 0}\r\n"                      // 9 200 ms
+         "ENDSPLINE C_SPL\r\n"                                             // 10
+         "SPLINE\r\n"                                                      // 11
+         "SLIN {X 26, Y 0.3, Z 0, A 0, B 0, C 0} WITH $VEL.CP = 0.05\r\n"  // 12 20 ms
+         "SLIN {X 27, Y 0.3, Z 0, A 0, B 0, C 0}\r\n"                      // 13 10 ms
+         "ENDSPLINE C_SPL\r\n"                                             // 14
+         "END\r\n";
+  const KrlProgram program = read_krl_program((dir / "P.src").string());
+  REQUIRE(program.motions.size() == 8);
+  CHECK(program.motions[0].spline_block == 0);
+  CHECK(program.motions[1].spline_block == 1);
+  CHECK(program.motions[5].spline_block == 1);
+  CHECK(program.motions[6].spline_block == 2);
+  CHECK(program.motions[4].vel_cp_m_per_s == 0.2);  // its own
+  CHECK(program.motions[5].vel_cp_m_per_s == 0.1);  // the $VEL.CP in force again
+  CHECK(program.motions[6].vel_cp_m_per_s == 0.05);
+  CHECK(program.motions[7].vel_cp_m_per_s == 0.1);
+  const KrlMotionRate rate = krl_motion_rate(program, KrlMotionRateOptions{});
+  CHECK(rate.cp_motions == 7);
+  CHECK(rate.unmeasured == 1);
+  CHECK(rate.spline_joined == 4);
+  CHECK(rate.below_cycle == 1);
+  CHECK(rate.shortest_line == 13);
+  CHECK(rate.shortest_s == Approx(0.010).epsilon(1e-6));
+  fs::remove_all(dir);
+}

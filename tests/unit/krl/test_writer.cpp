@@ -94,7 +94,8 @@ struct MotionLine {
 };
 
 std::vector<MotionLine> motion_lines(const std::vector<std::string>& lines) {
-  static const std::regex motion(R"(^(PTP|LIN|SLIN|SPL) \{(E6POS|E6AXIS): ([^}]*)\}( C_DIS)?$)");
+  static const std::regex motion(
+      R"(^(PTP|LIN|SLIN|SPL) \{(E6POS|E6AXIS): ([^}]*)\}( C_DIS| WITH \$VEL\.CP = [0-9.]+)?$)");
   static const std::regex item(R"(^\s*([A-Z][A-Z0-9]*) (-?[0-9]+(\.[0-9]+)?)$)");
   std::vector<MotionLine> out;
   for (size_t i = 0; i < lines.size(); ++i) {
@@ -588,8 +589,10 @@ TEST_CASE("krl_writer: SPL where the path is smooth, a new block at every corner
     {
       KrlWriter w(set, info);
       w.velocity(0.1);
-      for (const KrlMotion& m : motions) {
-        w.motion(m);
+      for (size_t i = 0; i < motions.size(); ++i) {
+        // Slower for two segments in the middle of the arc (an axis limits them).
+        w.velocity(i == 30 || i == 31 ? 0.05 : 0.1);
+        w.motion(motions[i]);
         smooth.push_back(w.joined_smoothly());
       }
       CHECK(w.has_spl() == (tolerance > 0.0));
@@ -597,7 +600,10 @@ TEST_CASE("krl_writer: SPL where the path is smooth, a new block at every corner
     }
     std::vector<std::string> kinds;  // per block: "SPL"/"SLIN" per segment
     std::string block;
+    int own_speed = 0;  // segments with their own $VEL.CP
     for (const std::string& l : split_lines(read_bytes(dir.path / "SMOOTH.src"))) {
+      if (l.find(" WITH $VEL.CP = 0.050000") != std::string::npos)
+        ++own_speed;
       if (l == "SPLINE")
         block.clear();
       else if (l == "ENDSPLINE C_SPL")
@@ -608,19 +614,23 @@ TEST_CASE("krl_writer: SPL where the path is smooth, a new block at every corner
         block += "L";
     }
     if (tolerance == 0.0) {
-      // Every feed move an SLIN, in one block: the program of 0.7.
-      CHECK(kinds == std::vector<std::string>{std::string(points.size() - 1, 'L')});
+      // Every feed move an SLIN; the speed changes end the blocks: the program of 0.7.
+      CHECK(kinds == std::vector<std::string>{std::string(29, 'L'), "LL",
+                                              std::string(points.size() - 32, 'L')});
+      CHECK(own_speed == 0);
       CHECK(std::none_of(smooth.begin(), smooth.end(), [](bool b) { return b; }));
     } else {
       // The arc's 60 segments and its corner end one block; the line of two, then the last.
+      // The two slower segments keep the block, with their own speed.
       CHECK(kinds == std::vector<std::string>{std::string(60, 'S'), "SS", "L"});
+      CHECK(own_speed == 2);
       // The arc's inner points are smooth knots; the corners and the block starts are not.
       for (size_t i = 0; i < smooth.size(); ++i) {
         INFO("motion " << i);
         CHECK(smooth[i] == (i >= 2 && i <= 60 || i == 62));
       }
     }
-    // The positions are the points given, whatever the keyword.
+    // The positions are the points given, whatever the keyword (and a WITH after them).
     const std::vector<MotionLine> ml =
         motion_lines(split_lines(read_bytes(dir.path / "SMOOTH.src")));
     REQUIRE(ml.size() == motions.size());

@@ -4,7 +4,9 @@
 // A KR C4 interpolates on a fixed cycle (12 ms) and prepares at most one motion block per cycle:
 // a LIN, CIRC or SLIN that its $VEL.CP would run in less than a cycle cannot run at that speed.
 // Recomputed from the program's own text: the TCP path between the printed positions (a CIRC's
-// arc through its auxiliary point), the turn at $VEL.ORI1, at the $VEL.CP in force.
+// arc through its auxiliary point), the turn at $VEL.ORI1, at the $VEL.CP in force (or the
+// motion's own, WITH $VEL.CP). Segments of a SPLINE block joined smoothly (an SPL and its
+// neighbour in the block) are one path to the controller and are not counted.
 #pragma once
 
 #include <string>
@@ -35,6 +37,8 @@ struct KrlMotionRate {
   long cp_motions = 0;      // CP motions measured (a Cartesian position before and after)
   long unmeasured = 0;      // CP motions after an axis-only target (their start not known)
   long below_cycle = 0;     // of the measured, lasting less than one cycle
+  long spline_joined = 0;   // of the measured, SPLINE segments joined smoothly to a neighbour
+                            // (one path the controller plans whole: not timed one by one)
   double shortest_s = 0.0;  // the shortest measured (0: none)
   std::string shortest_file;
   int shortest_line = 0;

@@ -39,7 +39,9 @@ struct KrlMotionRecord {
   std::string file;                 // the .src it is in
   int line = 0;
   int cl_line = 0;                     // from the last "; CL line N" comment before it (0: none)
-  double vel_cp_m_per_s = 0.0;         // $VEL.CP in force (0: never set)
+  double vel_cp_m_per_s = 0.0;         // $VEL.CP in force, or the motion's own (WITH $VEL.CP)
+                                       // (0: never set)
+  int spline_block = 0;                // the SPLINE block it is in, 1, 2, ... in order (0: none)
   double apo_cdis_mm = -1.0;           // $APO.CDIS in force (-1: never set)
   double ptp_velocity_percent = -1.0;  // BAS (#VEL_PTP, n) in force (-1: never set)
   std::string base, tool;              // right-hand sides of the $BASE / $TOOL in force
