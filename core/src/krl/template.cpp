@@ -442,6 +442,22 @@ void check_statements(const Reader& r, const XMLElement* root, const KrlTemplate
                        "\"> (it may be empty to write nothing)");
     }
   }
+  // A segment's own speed is written only with both forms, and only with SPL (the writer
+  // would otherwise ignore them: refused, as a statement never used is).
+  const auto line_of = [&](const char* name) {
+    const auto it = statement_line.find(name);
+    return it == statement_line.end() ? 0 : it->second;
+  };
+  const int lin_vel = line_of("spline_lin_vel"), spl_vel = line_of("spline_spl_vel");
+  if ((lin_vel > 0) != (spl_vel > 0)) {
+    r.fail(std::max(lin_vel, spl_vel),
+           "spline_lin_vel and spline_spl_vel go together: give both, or neither");
+  }
+  if (lin_vel > 0 && line_of("spline_spl") == 0) {
+    r.fail(std::min(lin_vel, spl_vel),
+           "spline_lin_vel and spline_spl_vel are used only with spline_spl: add it, or leave "
+           "them out");
+  }
 }
 
 // <timing>: what the program's skeleton sets up for the controller's motion, for the time

@@ -319,6 +319,16 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
                  "name=\"vel\">");
     expect_error(bad, line_of(bad, "spline_end"), "spline");
   }
+  SECTION("a segment's own speed in one form only, or without SPL") {
+    const std::string spline = read_bytes(template_path("krc4_spline"));
+    REQUIRE_NOTHROW(parse_krl_templates(spline, "good.xml"));
+    const std::string lin_only =
+        std::regex_replace(spline, std::regex("  <statement name=\"spline_spl_vel\">[^\n]*\n"), "");
+    expect_error(lin_only, line_of(lin_only, "name=\"spline_lin_vel\""), "go together");
+    const std::string no_spl =
+        std::regex_replace(spline, std::regex("  <statement name=\"spline_spl\">[^\n]*\n"), "");
+    expect_error(no_spl, line_of(no_spl, "name=\"spline_lin_vel\""), "only with spline_spl");
+  }
   SECTION("a statement missing") {
     const std::string bad =
         replaced(good, "<statement name=\"vel\">$VEL.CP = {vel}</statement>", "");
