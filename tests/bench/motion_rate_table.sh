@@ -2,7 +2,8 @@
 # The controller's clock on real and generated toolpaths (docs/timing.md, "The interpolation
 # cycle" and "Point reduction"; issue 30): every file converted with each feed set to
 # 10 000 mm/min four ways: 0.7's program (krc4_lin, --fit-tol 0), the point reduction with LINs
-# (krc4_lin), with arcs (krc4_circ), and with arcs and the fast plan preset. Per file the motions
+# (krc4_lin), with arcs (krc4_circ), and with arcs and the fast plan preset; and krc4_spline with
+# the reduction (SPL knots), also with the fast preset. Per file the motions
 # written, how many last less than one 12 ms cycle at their $VEL.CP (convert's count; `redpost
 # check` counts the same from the written text), the cutting time the cycle-aware model gives
 # against the CL feeds' time, and how far each reduced program's path strays from the CL points
@@ -65,10 +66,12 @@ fit_of() {
 
 echo
 echo "Each cell: 0.7 (krc4_lin, --fit-tol 0) → reduction, krc4_lin → reduction, krc4_circ; the"
-echo "time also → krc4_circ with --preset fast; the deviation for krc4_lin and krc4_circ."
+echo "time also → krc4_circ with --preset fast; the deviation for krc4_lin and krc4_circ. Then"
+echo "krc4_spline with the reduction (SPL where the path is smooth): motions and those below 12 ms,"
+echo "the time (→ with --preset fast), the deviation."
 echo
-echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) |"
-echo "|---|---|---|---|---|"
+echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) | spline: motions, below 12 ms | spline: time | spline: deviation |"
+echo "|---|---|---|---|---|---|---|---|"
 for f in "${inputs[@]}"; do
   name=$(basename "$f")
   fast=$work/fast_$name
@@ -83,11 +86,16 @@ for f in "${inputs[@]}"; do
   lin=$(convert_at "$fast" "$name" "$work/lin_$name")
   circ=$(convert_at "$fast" "$name" "$work/circ_$name" --krl krc4_circ)
   quick=$(convert_at "$fast" "$name" "$work/quick_$name" --krl krc4_circ --preset fast)
+  spl=$(convert_at "$fast" "$name" "$work/spl_$name" --krl krc4_spline)
+  splquick=$(convert_at "$fast" "$name" "$work/splquick_$name" --krl krc4_spline --preset fast)
   IFS='|' read -r m0 b0 r0 <<<"$before"
   IFS='|' read -r m1 b1 r1 <<<"$lin"
   IFS='|' read -r m2 b2 r2 <<<"$circ"
   IFS='|' read -r _ _ r3 <<<"$quick"
+  IFS='|' read -r m4 b4 r4 <<<"$spl"
+  IFS='|' read -r _ _ r5 <<<"$splquick"
   fit_lin=$(fit_of "$work/lin_$name/P.src" "$work/before_$name/P.src")
   fit_circ=$(fit_of "$work/circ_$name/P.src" "$work/before_$name/P.src")
-  echo "| $label | $m0 → $m1 → $m2 | $b0 → $b1 → $b2 | $r0 → $r1 → $r2 → $r3 | ${fit_lin:-fit check failed}; ${fit_circ:-fit check failed} |"
+  fit_spl=$(fit_of "$work/spl_$name/P.src" "$work/before_$name/P.src")
+  echo "| $label | $m0 → $m1 → $m2 | $b0 → $b1 → $b2 | $r0 → $r1 → $r2 → $r3 | ${fit_lin:-fit check failed}; ${fit_circ:-fit check failed} | $m4, $b4 | $r4 → $r5 | ${fit_spl:-fit check failed} |"
 done

@@ -11,44 +11,7 @@
 cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
 check_py=$SRC/tests/cli/speed_check.py
 py=python3
-
-# speeds NAME CL_FILE [convert options...]: converts with a joints log and runs the check (with
-# --feed 10000 when NAME starts with "fast" or "evalfast": the time at the written $VEL.CP
-# against the time at that feed).
-speeds() {
-  local name=$1 cl=$2
-  shift 2
-  mkdir -p "$TMP/$name"
-  run convert "$cl" --cell "$cell" -o "$TMP/$name" --name P --joints-csv "$TMP/$name/joints.csv" "$@"
-  expect_rc 0
-  expect_out "cycle time "
-  expect_out "axis speeds: at most "
-  local feed=()
-  [[ $name == fast* ]] && feed=(--feed 10000)
-  # Issue 17: at a production feed the real CAM files take at most 10 % longer than the feed asks.
-  [[ $name == evalfast* ]] && feed=(--feed 10000 --max-time-ratio 1.10)
-  $py "$check_py" "$TMP/$name/P.src" "$TMP/$name/joints.csv" "$cell" "${feed[@]}" \
-    >"$TMP/check" 2>&1 || fail "$name: $(cat "$TMP/check")"
-  echo "cli.speeds: $name: $(tr '\n' ' ' <"$TMP/check")"
-  # The motions shorter than one interpolation cycle: convert's count (from its own figures)
-  # and the check's (from the written text) agree but for the motions the check cannot measure
-  # (a LIN after a PTP to axes has no printed start).
-  local said counted unmeasured
-  said=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of .*/\1/p' "$TMP/out")
-  counted=$(sed -n 's/^speed_check: \([0-9]*\) of [0-9]* CP motions last less than one .*/\1/p' "$TMP/check")
-  unmeasured=$(sed -n 's/.*(\([0-9]*\) not measured)$/\1/p' "$TMP/check")
-  [[ -n "$said" && -n "$counted" && -n "$unmeasured" ]] || fail "$name: no count of short motions"
-  local gap=$((said - counted))
-  ((gap >= 0 && gap <= unmeasured)) ||
-    fail "$name: convert says $said motions are shorter than a cycle, the program shows $counted"
-}
-
-# fast CL_FILE OUT: the CL file with every feed set to 10 000 mm/min (a cycle's feed too).
-fast() {
-  sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
-    "$1" >"$2"
-  grep -q 'FEDRAT/\(MMPM,10000\|10000,MMPM\)' "$2" || fail "no feed replaced in $1"
-}
+. "$(dirname "$0")/speeds_helpers.sh"
 
 begin "the examples at their own feeds stay within every axis's velocity limit"
 for f in "$SRC"/examples/cl/*; do
@@ -81,45 +44,6 @@ fi
 grep -q "FAIL: an axis passes 1.00 of its velocity limit" "$TMP/check" || fail "$(cat "$TMP/check")"
 passed
 
-# fit NAME CL_FILE [convert options...]: converts CL_FILE with the point reduction (the default)
-# and without it (--fit-tol 0), both with a joints log, and checks from the two written programs
-# that every CL point lies within 0.01 mm and 0.1 deg of the reduced program's path
-# (tests/cli/fit_check.py), and the reduced one's axis speeds (speed_check.py).
-fit() {
-  local name=$1 cl=$2
-  shift 2
-  speeds "$name" "$cl" "$@"
-  cp "$TMP/out" "$TMP/$name.out"
-  mkdir -p "$TMP/${name}_ref"
-  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q "$@"
-  expect_rc 0
-  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
-    fail "$name: $(cat "$TMP/fit")"
-  echo "cli.speeds: $name: $(cat "$TMP/fit")"
-  # Issue 30: with the reduction no CP motion lasts less than one cycle at its \$VEL.CP, as
-  # convert says and as the check counts from the text.
-  grep -q "^interpolation cycle 12 ms: 0 of " "$TMP/$name.out" ||
-    fail "$name: $(grep '^interpolation' "$TMP/$name.out")"
-  grep -q "^speed_check: 0 of [0-9]* CP motions last less than one" "$TMP/check" ||
-    fail "$name: $(grep 'last less than' "$TMP/check")"
-}
-
-# spline_fit NAME CL_FILE: converts CL_FILE with krc4_spline (SPL where the path is smooth) and
-# checks from the written text that every CL point lies within 0.01 mm and 0.1 deg of the path
-# the model of the controller's spline draws through the written points, and that the curve
-# between them stays within 0.01 mm of the CL polyline (fit_check.py, docs/krl-templates.md).
-spline_fit() {
-  local name=$1 cl=$2
-  mkdir -p "$TMP/$name" "$TMP/${name}_ref"
-  run convert "$cl" --cell "$cell" -o "$TMP/$name" --name P --krl krc4_spline -q
-  expect_rc 0
-  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q
-  expect_rc 0
-  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
-    fail "$name: $(cat "$TMP/fit")"
-  echo "cli.speeds: $name: SPL $(grep -c '^SPL ' "$TMP/$name/P.src"), $(cat "$TMP/fit")"
-}
-
 begin "point reduction at 10 000 mm/min: every CL point of the examples and a raster within 0.01 mm and 0.1 deg of the written path"
 $py "$SRC/tests/bench/make_raster_apt.py" 5000 "$TMP/raster5k.apt"
 for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
@@ -127,7 +51,6 @@ for f in "$SRC"/examples/cl/* "$TMP/raster5k.apt"; do
   fast "$f" "$TMP/$name.cl"
   fit "$name" "$TMP/$name.cl"
   fit "${name}_circ" "$TMP/$name.cl" --krl krc4_circ
-  spline_fit "${name}_spline" "$TMP/$name.cl"
 done
 # The raster is reduced (its points are 0.5 mm apart: 3 ms at 10 m/min), and then runs at its
 # feed: no motion shorter than the 12 ms cycle.

@@ -144,6 +144,18 @@ void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
   m.T_base_tcp = pending.T_base_tcp;
   m.status_turn = pending.status_turn;
   const bool curved = !pending.start_tangent.isZero() || !end_tangent.isZero();
+  if (!curved && segment_vel && info.interpolation_cycle_s > 0.0) {
+    // The controller's clock: an SLIN alone between two corners is a motion of its own.
+    const double vel = std::isnan(pending.vel) ? vel_in_force : pending.vel;
+    const double rate =
+        rate_velocity((pending.T_base_tcp.translation() - pending.start).norm(), vel);
+    if (!std::isnan(rate)) {
+      pending.vel = rate;
+      if (rate_segments.size() >= 4096)  // nobody asks: keep the memory bounded
+        rate_segments.pop_front();
+      rate_segments.emplace_back(pending.index, rate);
+    }
+  }
   Values v = pose_values(m);
   if (std::isnan(pending.vel)) {
     put(curved ? Stmt::spline_spl : Stmt::spline_lin, v);
@@ -156,6 +168,21 @@ void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
   pending.after.clear();
 }
 
+double KrlWriter::Impl::rate_velocity(double length_mm, double vel_m_per_s) const {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double cycle = info.interpolation_cycle_s;
+  if (!(length_mm > 0.0) || !(vel_m_per_s > 0.0) || length_mm >= 1000.0 * vel_m_per_s * cycle)
+    return nan;
+  // Short by the worst the printed decimals take off both ends (as the session's LINs).
+  const double printed_mm = length_mm - std::sqrt(3.0) * std::pow(10.0, -t.position_decimals);
+  if (!(printed_mm > 0.0))
+    return nan;
+  const double scale = std::pow(10.0, t.velocity_decimals);
+  const double rate =
+      std::max(std::floor(printed_mm / cycle / 1000.0 * scale) / scale, 1.0 / scale);
+  return rate < vel_m_per_s ? rate : nan;
+}
+
 void KrlWriter::Impl::put_in_block(std::string text) {
   if (have_pending)
     pending.after.push_back(std::move(text));
@@ -163,8 +190,6 @@ void KrlWriter::Impl::put_in_block(std::string text) {
     put(src_out, out_index, text);
 }
 
-// A feed move in a set with SPL: the segment held before it learns how its end is passed (a
-// smooth knot, or a corner where the block ends and the next begins), and this one is held.
 void KrlWriter::Impl::begin_spline() {
   flush_velocity();
   put(Stmt::spline_begin, Values{});
@@ -172,6 +197,8 @@ void KrlWriter::Impl::begin_spline() {
   spline_points = 0;
 }
 
+// A feed move in a set with SPL: the segment held before it learns how its end is passed (a
+// smooth knot, or a corner where the block ends and the next begins), and this one is held.
 void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
   if (in_spline && spline_points == t.max_spline_points)
     end_spline();
@@ -206,6 +233,7 @@ void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
   pending.status_turn = m.status_turn;
   pending.start = last_p;
   pending.start_tangent = tangent;
+  pending.index = motion_count + 1;
   have_pending = true;
   ++spline_points;
 }
@@ -239,6 +267,7 @@ void KrlWriter::Impl::flush_velocity() {
     end_spline();
     put(src_out, out_index, text);
     vel_written = std::move(text);
+    vel_in_force = vel_requested;
   }
 }
 
@@ -454,6 +483,21 @@ void KrlWriter::dwell(double seconds) {
 
 bool KrlWriter::has_spl() const {
   return impl_->spl;
+}
+
+bool KrlWriter::take_rate_segment(long index, double& vel_m_per_s) {
+  auto& q = impl_->rate_segments;
+  while (!q.empty() && q.front().first < index)
+    q.pop_front();
+  if (q.empty() || q.front().first != index)
+    return false;
+  vel_m_per_s = q.front().second;
+  q.pop_front();
+  return true;
+}
+
+void KrlWriter::end_block() {
+  impl_->end_spline();
 }
 
 bool KrlWriter::joined_smoothly() const {

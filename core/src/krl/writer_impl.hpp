@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <deque>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -82,12 +83,19 @@ struct KrlWriter::Impl {
     Eigen::Vector3d start = Eigen::Vector3d::Zero();          // where it starts
     Eigen::Vector3d start_tangent = Eigen::Vector3d::Zero();  // unit at a smooth start, or 0
     double vel = std::numeric_limits<double>::quiet_NaN();    // its own $VEL.CP; NaN: the block's
+    long index = 0;                                           // its motion number, 1, 2, ...
     std::vector<std::string> after;
   };
   bool have_pending = false;
   PendingSegment pending;
   Eigen::Vector3d last_p = Eigen::Vector3d::Zero();  // where the last motion ended
   bool joined_smoothly = false;                      // the last feed move's start is a smooth knot
+  double vel_in_force = 0.0;                         // the $VEL.CP last written (m/s)
+  // Segments written at the motion rate, (motion number, m/s), until asked (take_rate_segment).
+  std::deque<std::pair<long, double>> rate_segments;
+  // The speed at which an SLIN segment of `length_mm` lasts one interpolation cycle, if it
+  // would last less at `vel_m_per_s`; else NaN.
+  double rate_velocity(double length_mm, double vel_m_per_s) const;
   double vel_requested = std::numeric_limits<double>::quiet_NaN();
   std::string vel_written;  // the last $VEL.CP statement, to skip repeats
   bool have_last = false;

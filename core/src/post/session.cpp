@@ -24,11 +24,14 @@ constexpr double kSplineLineShare = 0.1;
 
 // The writer's program settings that come from the cell: how $BASE is set (a turntable as a
 // mathematically coupled kinematic), the number of external axes, the tool change routine.
-KrlProgramInfo program_for(const Cell& cell, const PostOptions& o) {
+KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemplateSet& t) {
   KrlProgramInfo info = o.program;
   // SPL knots in a spline set get most of the fit tolerance; the lines merged before them the
   // rest (reduction_for), so that a dropped point is within the sum of the written curve.
   info.spline_tolerance_mm = (1.0 - kSplineLineShare) * o.reduction.tolerance_mm;
+  // The motion rate in a spline set goes with the reduction, as in the others (timing.cpp).
+  if (o.reduction.tolerance_mm > 0.0)
+    info.interpolation_cycle_s = t.timing.interpolation_cycle_ms / 1000.0;
   const ControllerSettings& c = cell.controller;
   if (c.coupled_base_joint >= 0) {
     info.base_coupled = true;
@@ -70,7 +73,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       o(options),
       active_cell(&c),
       tracker(c, options.tracker),
-      writer(templates, program_for(c, options)),
+      writer(templates, program_for(c, options, templates)),
       arm(make_arm_status_model(c)),
       spin_last(last_pure_spin(c)),
       templates_position_decimals(templates.position_decimals),
@@ -518,6 +521,9 @@ const PostSummary& PostSession::prepare() {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",
                 SourceLocation{m.o.source_name, 0, 0});
   }
+  // The last segment of an open SPLINE block is written before the time model's last motions
+  // are: whether it runs at the motion rate is known then (on_timed).
+  m.writer.end_block();
   m.finish_timing();
   for (DeflectionStats& d : m.summary.deflection) {
     d.rms_mm = std::sqrt(d.rms_mm / static_cast<double>(d.motions));

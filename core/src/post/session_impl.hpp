@@ -246,6 +246,7 @@ struct PostSession::Impl {
                   const Isometry& T1, JointVector& peak_rate, double length_mm, std::string& why);
   void remember_written(const JointVector& q, const Isometry& T_B);
   void on_timed(const TimedMotion& t, const MotionTiming& mt);
+  void record_timed(const TimedMotion& t, const MotionTiming& mt);
   void write_joints_row(const PendingMotion& p, double end_s);
   void close_slowdown();
   void close_limit();

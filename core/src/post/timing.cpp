@@ -334,8 +334,25 @@ void PostSession::Impl::timing_stop(double dwell_s) {
   timer->stop(dwell_s);
 }
 
-// A motion has been timed: its joints-log row and observer sample, and the summary.
+// A motion has been timed. In a spline set the writer may have written an SLIN alone in its
+// block at the motion rate (it knows once the next motion came, before the motion is timed):
+// the record is of what the program says.
 void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
+  double vel_m_per_s = 0.0;
+  if (t.kind == TimedMotion::Kind::cp && writer.take_rate_segment(t.index, vel_m_per_s)) {
+    TimedMotion written = t;
+    MotionTiming timing = mt;
+    written.command_mm_s = vel_m_per_s * 1000.0;
+    written.command_joint = TimedMotion::kMotionRate;
+    timing.below_cycle = false;
+    record_timed(written, timing);
+    return;
+  }
+  record_timed(t, mt);
+}
+
+// A motion as timed: its joints-log row and observer sample, and the summary.
+void PostSession::Impl::record_timed(const TimedMotion& t, const MotionTiming& mt) {
   if (pending.empty() || pending.front().index != t.index) {
     throw Error(ErrorCode::internal, "the time model lost track of the written motions");
   }
@@ -357,7 +374,7 @@ void PostSession::Impl::on_timed(const TimedMotion& t, const MotionTiming& mt) {
     // Its time at the $VEL.CP written (and $VEL.ORI1), as a check of the program computes it.
     const double speed = std::min(t.command_mm_s, t.orientation_cap_mm_s);
     const double at_command = speed > 0.0 ? t.length_mm / speed : 0.0;
-    if (t.length_mm > 0.0 &&
+    if (t.length_mm > 0.0 && !mt.spline_joined &&
         (summary.shortest_motion_line == 0 || at_command < summary.shortest_motion_s)) {
       summary.shortest_motion_s = at_command;
       summary.shortest_motion_line = t.cl_line;

@@ -140,12 +140,11 @@ void PathTimer::push(const TimedMotion& motion) {
                        acceleration_cap(*cell_, motion.peak_rate, &e.accel_joint));
     if (e.accel >= controller_.path_acceleration_mm_s2)
       e.accel_joint = -1;
-    // The motion block takes at least one interpolation cycle (the controller prepares one
-    // block per cycle at most): cruise at most length / cycle.
     e.cruise_free = e.cruise;
-    // A segment that joins the one before it smoothly in a SPLINE block is part of one path
-    // the controller plans whole and samples on its cycle: no cycle of its own (nor for the
-    // segment before it, below).
+    // The motion block takes at least one interpolation cycle (the controller prepares one
+    // block per cycle at most): cruise at most length / cycle. But a segment that joins the one
+    // before it smoothly in a SPLINE block is part of one path the controller plans whole and
+    // samples on its cycle: no cycle of its own (nor for the segment before it, below).
     if (controller_.interpolation_cycle_s > 0.0 && motion.length_mm > 0.0 && !motion.entry_smooth) {
       e.rate_cap = motion.length_mm / controller_.interpolation_cycle_s;
       e.cruise = std::min(e.cruise, e.rate_cap);
@@ -166,6 +165,7 @@ void PathTimer::push(const TimedMotion& motion) {
     if (smooth) {
       prev.cruise = prev.cruise_free;
       prev.rate_cap = std::numeric_limits<double>::infinity();
+      prev.joined = e.joined = true;
     }
     const bool blended = cp_pair && (smooth || prev.m.blend_mm > 0.0);
     if (blended) {
@@ -349,6 +349,7 @@ void PathTimer::emit_front(std::size_t count) {
           m.length_mm < std::min(m.command_mm_s, m.orientation_cap_mm_s) *
                             controller_.interpolation_cycle_s * kBelowCycle)
         t.below_cycle = true;
+      t.spline_joined = e.joined;
       if (t.peak_mm_s < m.asked_mm_s * (1.0 - 1e-6)) {
         int vj = -1;
         const double v_axes = velocity_cap(*cell_, m.peak_rate, &vj);

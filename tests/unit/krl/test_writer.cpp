@@ -22,6 +22,8 @@
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
+#include "redpost/krl/motion_rate.hpp"
+#include "redpost/krl/reader.hpp"
 #include "redpost/krl/template.hpp"
 #include "redpost/krl/writer.hpp"
 #include "temp_dir.hpp"
@@ -646,6 +648,60 @@ TEST_CASE("krl_writer: SPL where the path is smooth, a new block at every corner
     REQUIRE(ml.size() == motions.size());
     for (size_t i = 1; i < ml.size(); ++i)
       check_pose(ml[i], motions[i]);
+  }
+}
+
+TEST_CASE("krl_writer: an SLIN alone between corners shorter than a cycle runs at the rate") {
+  // A zigzag of 1 mm steps turning 90 deg at every point: every step a block of its own. At
+  // 0.2 m/s a step lasts 5 ms; with a 12 ms cycle each is written with the speed at which it
+  // lasts one (its length short by the printed decimals), and the reader's count of motions
+  // below a cycle, from the text, is 0. Without the cycle, at 0.2 m/s, all are below.
+  const Cell cell = test::shipped_cell("kr15_2");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_spline"));
+  std::vector<KrlMotion> motions = make_motions(cell, 21, 9, 0);
+  for (size_t i = 0; i < motions.size(); ++i) {
+    // One orientation: the steps only move (a turn would take its own time at $VEL.ORI1).
+    motions[i].T_base_tcp.linear() = motions[0].T_base_tcp.linear();
+    motions[i].T_base_tcp.translation() = Eigen::Vector3d(600.0 + static_cast<double>((i + 1) / 2),
+                                                          static_cast<double>(i / 2), 500.0);
+  }
+  for (const double cycle : {0.0, 0.012}) {
+    TempDir dir;
+    KrlProgramInfo info = info_for(dir, "ZIGZAG");
+    info.spline_tolerance_mm = 0.009;
+    info.interpolation_cycle_s = cycle;
+    std::vector<double> rates;
+    {
+      KrlWriter w(set, info);
+      w.velocity(0.2);
+      for (const KrlMotion& m : motions)
+        w.motion(m);
+      w.end_block();
+      for (long k = 1; k <= static_cast<long>(motions.size()); ++k) {
+        double v = 0.0;
+        if (w.take_rate_segment(k, v))
+          rates.push_back(v);
+      }
+      w.finish();
+    }
+    const KrlProgram program = read_krl_program((dir.path / "ZIGZAG.src").string());
+    const KrlMotionRate rate = krl_motion_rate(program, KrlMotionRateOptions{});
+    CHECK(rate.cp_motions == 19);  // the first step starts after a PTP to axes: not measured
+    CHECK(rate.unmeasured == 1);
+    CHECK(rate.spline_joined == 0);
+    if (cycle == 0.0) {
+      CHECK(rates.empty());
+      CHECK(rate.below_cycle == 19);
+    } else {
+      // (1 - sqrt(3) 0.001) mm / 0.012 s = 83.18899 mm/s, floored to the set's 6 decimals of
+      // m/s.
+      REQUIRE(rates.size() == 20);
+      for (const double v : rates)
+        CHECK(v == Approx(0.083188).margin(1e-12));
+      CHECK(rate.below_cycle == 0);
+      for (std::size_t k = 1; k < program.motions.size(); ++k)
+        CHECK(program.motions[k].vel_cp_m_per_s == Approx(0.083188).margin(1e-12));
+    }
   }
 }
 

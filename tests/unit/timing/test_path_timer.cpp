@@ -301,6 +301,45 @@ TEST_CASE("path_timer: motions shorter than the interpolation cycle cost a cycle
   CHECK_FALSE(fine[250].t.below_cycle);
 }
 
+TEST_CASE("path_timer: SPLINE segments joined smoothly are one path, with no cycle each",
+          "[timing]") {
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.interpolation_cycle_s = 0.012;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // The same 1000 pieces of 1 mm at 100 mm/s as above, but each after the first joined to the
+  // one before it (SPL knots, straight: no turn), and no blend of their own: the whole path runs
+  // at 100 mm/s, rest to rest, 10.05 s, as one 1000 mm motion would.
+  std::vector<TimedMotion> pieces(1000, cp(1.0, 100.0, rate, x, 0.0));
+  for (std::size_t i = 1; i < pieces.size(); ++i)
+    pieces[i].entry_smooth = true;
+  const std::vector<Timed> joined = run(cell, c, pieces);
+  CHECK(total(joined) == Approx(10.05).epsilon(1e-9));
+  for (const std::size_t k : {std::size_t{0}, std::size_t{500}, std::size_t{999}}) {
+    CHECK(joined[k].t.spline_joined);
+    CHECK_FALSE(joined[k].t.below_cycle);
+  }
+  CHECK(joined[500].t.limit == TimingLimit::none);
+  // A turn of 10 deg at each knot: spread over half a piece (0.5 mm), the corner rule caps the
+  // speed at sqrt(a d / |dt|) (the TCP's direction changes by 2 sin(5 deg)): 75.7 mm/s.
+  std::vector<TimedMotion> bent = pieces;
+  for (std::size_t i = 0; i < bent.size(); ++i) {
+    const double phi = (10.0 * 3.14159265358979323846 / 180.0) * static_cast<double>(i);
+    bent[i].tangent = Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0);
+  }
+  const std::vector<Timed> curved = run(cell, c, bent);
+  const double cap =
+      std::sqrt(2000.0 * 0.5 / (2.0 * std::sin(5.0 * 3.14159265358979323846 / 180.0)));
+  CHECK(cap < 100.0);
+  CHECK(curved[500].t.entry_mm_s == Approx(cap).epsilon(1e-9));
+  CHECK(curved[500].t.limit == TimingLimit::corner);
+  // The first piece alone (no knot after it): a motion of its own, a cycle at least.
+  std::vector<TimedMotion> alone(1, cp(1.0, 100.0, rate, x, 0.0));
+  const std::vector<Timed> one = run(cell, c, alone);
+  CHECK_FALSE(one[0].t.spline_joined);
+}
+
 TEST_CASE("path_timer: the look-ahead of $ADVANCE motions bounds the speed in closed form",
           "[timing]") {
   const Cell cell = timing_cell();

@@ -56,6 +56,11 @@ struct KrlProgramInfo {
   // spline (krl/spline_model.hpp) may leave each segment's chord where the block passes a point
   // smoothly as SPL. 0: every feed move an SLIN, and every point of a block passed as written.
   double spline_tolerance_mm = 0.0;
+  // With SPL and the per-segment speed statements: an SLIN segment with a corner at both ends
+  // that would last less than this (s) at its speed is written with the speed at which it lasts
+  // one (WITH $VEL.CP), its length taken short by what the printed decimals may take off both
+  // ends (take_rate_segment says which). 0: never.
+  double interpolation_cycle_s = 0.0;
 };
 
 // A tool change as the program writes it (docs/tools.md).
@@ -109,6 +114,13 @@ class KrlWriter {
   bool joined_smoothly() const;
   // A spline set with spline_spl and a spline tolerance: feed moves may be written as SPL.
   bool has_spl() const;
+  // Whether motion `index` (1, 2, ... in the order given) was written at the motion rate
+  // (KrlProgramInfo::interpolation_cycle_s), and at which $VEL.CP (m/s). Asked in order: the
+  // answers for earlier motions are dropped. Known once the motion after it was given, or its
+  // block ended.
+  bool take_rate_segment(long index, double& vel_m_per_s);
+  // Ends an open SPLINE block now (its last segment is written).
+  void end_block();
   // The tool change statement (the cell's routine, or tool_change_manual), then tool_select.
   void tool_change(const KrlToolChange& change);
   void dwell(double seconds);                // the set's dwell statement (WAIT SEC)

@@ -117,6 +117,9 @@ struct MotionTiming {
   int axis_fraction_joint = -1;
   // CP: the motion would last less than one interpolation cycle at its asked speed.
   bool below_cycle = false;
+  // CP: a SPLINE segment joined smoothly to a neighbour (TimedMotion::entry_smooth, its own or
+  // the next one's): part of one path, with no cycle of its own.
+  bool spline_joined = false;
 };
 
 class PathTimer {
@@ -160,6 +163,7 @@ class PathTimer {
     double rate_cap = std::numeric_limits<double>::infinity();       // length / interpolation cycle
     double curvature_cap = std::numeric_limits<double>::infinity();  // sqrt(a_path r)
     bool lookahead_bound = false;  // the look-ahead lowered `junction`
+    bool joined = false;           // joined smoothly to a neighbour in a SPLINE block
     double exit = 0.0;             // planned exit speed
   };
   // What the look-ahead needs of the last motions, also of those already timed.

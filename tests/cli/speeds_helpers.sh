@@ -1,0 +1,63 @@
+# The helpers of the axis-speed tests (test_speeds.sh, test_spline.sh), sourced after
+# harness.sh with `cell`, `check_py` and `py` set.
+
+# speeds NAME CL_FILE [convert options...]: converts with a joints log and runs the check (with
+# --feed 10000 when NAME starts with "fast" or "evalfast": the time at the written $VEL.CP
+# against the time at that feed).
+speeds() {
+  local name=$1 cl=$2
+  shift 2
+  mkdir -p "$TMP/$name"
+  run convert "$cl" --cell "$cell" -o "$TMP/$name" --name P --joints-csv "$TMP/$name/joints.csv" "$@"
+  expect_rc 0
+  expect_out "cycle time "
+  expect_out "axis speeds: at most "
+  local feed=()
+  [[ $name == fast* ]] && feed=(--feed 10000)
+  # Issue 17: at a production feed the real CAM files take at most 10 % longer than the feed asks.
+  [[ $name == evalfast* ]] && feed=(--feed 10000 --max-time-ratio 1.10)
+  $py "$check_py" "$TMP/$name/P.src" "$TMP/$name/joints.csv" "$cell" "${feed[@]}" \
+    >"$TMP/check" 2>&1 || fail "$name: $(cat "$TMP/check")"
+  echo "cli.speeds: $name: $(tr '\n' ' ' <"$TMP/check")"
+  # The motions shorter than one interpolation cycle: convert's count (from its own figures)
+  # and the check's (from the written text) agree but for the motions the check cannot measure
+  # (a LIN after a PTP to axes has no printed start).
+  local said counted unmeasured
+  said=$(sed -n 's/^interpolation cycle 12 ms: \([0-9]*\) of .*/\1/p' "$TMP/out")
+  counted=$(sed -n 's/^speed_check: \([0-9]*\) of [0-9]* CP motions last less than one .*/\1/p' "$TMP/check")
+  unmeasured=$(sed -n 's/.*(\([0-9]*\) not measured)$/\1/p' "$TMP/check")
+  [[ -n "$said" && -n "$counted" && -n "$unmeasured" ]] || fail "$name: no count of short motions"
+  local gap=$((said - counted))
+  ((gap >= 0 && gap <= unmeasured)) ||
+    fail "$name: convert says $said motions are shorter than a cycle, the program shows $counted"
+}
+
+# fast CL_FILE OUT: the CL file with every feed set to 10 000 mm/min (a cycle's feed too).
+fast() {
+  sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
+    "$1" >"$2"
+  grep -q 'FEDRAT/\(MMPM,10000\|10000,MMPM\)' "$2" || fail "no feed replaced in $1"
+}
+
+# fit NAME CL_FILE [convert options...]: converts CL_FILE with the point reduction (the default)
+# and without it (--fit-tol 0), both with a joints log, and checks from the two written programs
+# that every CL point lies within 0.01 mm and 0.1 deg of the reduced program's path
+# (tests/cli/fit_check.py), and the reduced one's axis speeds (speed_check.py).
+fit() {
+  local name=$1 cl=$2
+  shift 2
+  speeds "$name" "$cl" "$@"
+  cp "$TMP/out" "$TMP/$name.out"
+  mkdir -p "$TMP/${name}_ref"
+  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q "$@"
+  expect_rc 0
+  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
+    fail "$name: $(cat "$TMP/fit")"
+  echo "cli.speeds: $name: $(cat "$TMP/fit")"
+  # Issue 30: with the reduction no CP motion lasts less than one cycle at its \$VEL.CP, as
+  # convert says and as the check counts from the text.
+  grep -q "^interpolation cycle 12 ms: 0 of " "$TMP/$name.out" ||
+    fail "$name: $(grep '^interpolation' "$TMP/$name.out")"
+  grep -q "^speed_check: 0 of [0-9]* CP motions last less than one" "$TMP/check" ||
+    fail "$name: $(grep 'last less than' "$TMP/check")"
+}
