@@ -95,13 +95,16 @@ $py "$SRC/tests/cli/fit_check.py" "$dir/loose/P.src" "${dir}_ref/P.src" --tol 0.
 passed
 
 begin "point reduction: bad tolerances are refused before anything is written"
-for bad in "--fit-tol -1" "--fit-tol 2" "--fit-tol nan" "--fit-ang-tol 0" "--fit-ang-tol 10"; do
-  mkdir -p "$TMP/badfit"
-  # shellcheck disable=SC2086 # the option and its value
-  run convert "$SRC/examples/cl/long_pass.apt" --cell "$cell" -o "$TMP/badfit" --name P $bad
-  expect_rc 2
-  expect_err "${bad%% *}"
-  [[ -z "$(ls -A "$TMP/badfit")" ]] || fail "$bad: output left behind: $(ls "$TMP/badfit")"
+for set in krc4_lin krc4_spline; do
+  for bad in "--fit-tol -1" "--fit-tol 2" "--fit-tol nan" "--fit-ang-tol 0" "--fit-ang-tol 10"; do
+    mkdir -p "$TMP/badfit"
+    # shellcheck disable=SC2086 # the option and its value
+    run convert "$SRC/examples/cl/long_pass.apt" --cell "$cell" -o "$TMP/badfit" --name P \
+      --krl "$set" $bad
+    expect_rc 2
+    expect_err "${bad%% *}"
+    [[ -z "$(ls -A "$TMP/badfit")" ]] || fail "$set $bad: output left behind: $(ls "$TMP/badfit")"
+  done
 done
 passed
 

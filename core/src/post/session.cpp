@@ -27,11 +27,14 @@ constexpr double kSplineLineShare = 0.1;
 KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemplateSet& t) {
   KrlProgramInfo info = o.program;
   // SPL knots in a spline set get most of the fit tolerance; the lines merged before them the
-  // rest (reduction_for), so that a dropped point is within the sum of the written curve.
-  info.spline_tolerance_mm = (1.0 - kSplineLineShare) * o.reduction.tolerance_mm;
-  // The motion rate in a spline set goes with the reduction, as in the others (timing.cpp).
-  if (o.reduction.tolerance_mm > 0.0)
+  // rest (reduction_for), so that a dropped point is within the sum of the written curve. The
+  // motion rate in a spline set goes with the reduction, as in the others (timing.cpp). A bad
+  // tolerance is refused by the session, in --fit-tol's words, not by the writer.
+  const double tolerance_mm = o.reduction.tolerance_mm;
+  if (std::isfinite(tolerance_mm) && tolerance_mm > 0.0) {
+    info.spline_tolerance_mm = (1.0 - kSplineLineShare) * tolerance_mm;
     info.interpolation_cycle_s = t.timing.interpolation_cycle_ms / 1000.0;
+  }
   const ControllerSettings& c = cell.controller;
   if (c.coupled_base_joint >= 0) {
     info.base_coupled = true;
