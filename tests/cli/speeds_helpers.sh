@@ -1,5 +1,8 @@
 # The helpers of the axis-speed tests (test_speeds.sh, test_spline.sh), sourced after
-# harness.sh with `cell`, `check_py` and `py` set.
+# harness.sh: the reference cell, the checks from the written text, and the runs below.
+cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
+check_py=$SRC/tests/cli/speed_check.py
+py=python3
 
 # speeds NAME CL_FILE [convert options...]: converts with a joints log and runs the check (with
 # --feed 10000 when NAME starts with "fast" or "evalfast": the time at the written $VEL.CP

@@ -8,9 +8,6 @@
 #
 # Usage: test_speeds.sh REDPOST SOURCE_DIR
 . "$(dirname "$0")/harness.sh" cli.speeds "$@"
-cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
-check_py=$SRC/tests/cli/speed_check.py
-py=python3
 . "$(dirname "$0")/speeds_helpers.sh"
 
 begin "the examples at their own feeds stay within every axis's velocity limit"

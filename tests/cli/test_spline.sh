@@ -9,9 +9,6 @@
 #
 # Usage: test_spline.sh REDPOST SOURCE_DIR
 . "$(dirname "$0")/harness.sh" cli.spline "$@"
-cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
-check_py=$SRC/tests/cli/speed_check.py
-py=python3
 . "$(dirname "$0")/speeds_helpers.sh"
 
 begin "SPL where the path is smooth: the model's path within 0.01 mm of every CL point, its curves of the CL polyline, within the axis speeds and the cycle"

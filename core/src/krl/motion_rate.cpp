@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -55,6 +56,20 @@ bool joins_smoothly(const std::vector<KrlMotionRecord>& motions, std::size_t i) 
 }
 
 }  // namespace
+
+double krl_cycle_velocity(double length_mm, double vel_m_per_s, double cycle_s,
+                          int position_decimals, int velocity_decimals) {
+  // Each printed coordinate is within half a unit of its last decimal: an end moves by at most
+  // sqrt(3) / 2 of one, the length by twice that.
+  const double printed_mm = length_mm - std::sqrt(3.0) * std::pow(10.0, -position_decimals);
+  if (!(printed_mm > 0.0) || !(cycle_s > 0.0))
+    return std::numeric_limits<double>::quiet_NaN();
+  const double rate_mm_s = printed_mm / cycle_s;
+  if (!(1000.0 * vel_m_per_s > rate_mm_s))
+    return std::numeric_limits<double>::quiet_NaN();
+  const double scale = std::pow(10.0, velocity_decimals);
+  return std::max(std::floor(rate_mm_s / 1000.0 * scale) / scale, 1.0 / scale);
+}
 
 KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options) {
   KrlMotionRate out;

@@ -5,6 +5,7 @@
 // writer_render.cpp, and the files (parts, main program, renames) are handled in
 // writer_files.cpp.
 #include "redpost/krl/writer.hpp"
+#include "redpost/krl/motion_rate.hpp"
 #include "redpost/krl/spline_model.hpp"
 
 #include <unistd.h>
@@ -139,24 +140,21 @@ void KrlWriter::Impl::end_spline() {
 
 void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
   have_pending = false;
-  KrlMotion m;
-  m.axes = pending.axes;
-  m.T_base_tcp = pending.T_base_tcp;
-  m.status_turn = pending.status_turn;
   const bool curved = !pending.start_tangent.isZero() || !end_tangent.isZero();
   if (!curved && segment_vel && info.interpolation_cycle_s > 0.0) {
     // The controller's clock: an SLIN alone between two corners is a motion of its own.
     const double vel = std::isnan(pending.vel) ? vel_in_force : pending.vel;
     const double rate =
-        rate_velocity((pending.T_base_tcp.translation() - pending.start).norm(), vel);
-    if (!std::isnan(rate)) {
+        krl_cycle_velocity((pending.motion.T_base_tcp.translation() - pending.start).norm(), vel,
+                           info.interpolation_cycle_s, t.position_decimals, t.velocity_decimals);
+    if (rate < vel) {
       pending.vel = rate;
       if (rate_segments.size() >= 4096)  // nobody asks: keep the memory bounded
         rate_segments.pop_front();
       rate_segments.emplace_back(pending.index, rate);
     }
   }
-  Values v = pose_values(m);
+  Values v = pose_values(pending.motion);
   if (std::isnan(pending.vel)) {
     put(curved ? Stmt::spline_spl : Stmt::spline_lin, v);
   } else {
@@ -166,21 +164,6 @@ void KrlWriter::Impl::write_pending(const Eigen::Vector3d& end_tangent) {
   for (const std::string& text : pending.after)
     put(src_out, out_index, text);
   pending.after.clear();
-}
-
-double KrlWriter::Impl::rate_velocity(double length_mm, double vel_m_per_s) const {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double cycle = info.interpolation_cycle_s;
-  if (!(length_mm > 0.0) || !(vel_m_per_s > 0.0) || length_mm >= 1000.0 * vel_m_per_s * cycle)
-    return nan;
-  // Short by the worst the printed decimals take off both ends (as the session's LINs).
-  const double printed_mm = length_mm - std::sqrt(3.0) * std::pow(10.0, -t.position_decimals);
-  if (!(printed_mm > 0.0))
-    return nan;
-  const double scale = std::pow(10.0, t.velocity_decimals);
-  const double rate =
-      std::max(std::floor(printed_mm / cycle / 1000.0 * scale) / scale, 1.0 / scale);
-  return rate < vel_m_per_s ? rate : nan;
 }
 
 void KrlWriter::Impl::put_in_block(std::string text) {
@@ -208,7 +191,7 @@ void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
   Eigen::Vector3d tangent = Eigen::Vector3d::Zero();
   joined_smoothly = false;
   if (have_pending) {
-    const Eigen::Vector3d a = pending.start, b = pending.T_base_tcp.translation();
+    const Eigen::Vector3d a = pending.start, b = pending.motion.T_base_tcp.translation();
     if (smooth_knot(a, b, p, info.spline_tolerance_mm)) {
       tangent = bessel_tangent(a, b, p);
       joined_smoothly = !tangent.isZero();
@@ -228,9 +211,7 @@ void KrlWriter::Impl::spline_feed_move(const KrlMotion& m) {
     if (render(Stmt::vel, v) != vel_written)
       pending.vel = vel_requested;
   }
-  pending.axes = m.axes;
-  pending.T_base_tcp = m.T_base_tcp;
-  pending.status_turn = m.status_turn;
+  pending.motion = m;
   pending.start = last_p;
   pending.start_tangent = tangent;
   pending.index = motion_count + 1;

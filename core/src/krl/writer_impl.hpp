@@ -77,9 +77,7 @@ struct KrlWriter::Impl {
   // block's carries its own (WITH $VEL.CP): a change of speed no longer ends the block.
   bool segment_vel = false;
   struct PendingSegment {
-    AxisValues axes;
-    Isometry T_base_tcp = Isometry::Identity();
-    StatusTurn status_turn;
+    KrlMotion motion;                                         // its end
     Eigen::Vector3d start = Eigen::Vector3d::Zero();          // where it starts
     Eigen::Vector3d start_tangent = Eigen::Vector3d::Zero();  // unit at a smooth start, or 0
     double vel = std::numeric_limits<double>::quiet_NaN();    // its own $VEL.CP; NaN: the block's
@@ -93,9 +91,6 @@ struct KrlWriter::Impl {
   double vel_in_force = 0.0;                         // the $VEL.CP last written (m/s)
   // Segments written at the motion rate, (motion number, m/s), until asked (take_rate_segment).
   std::deque<std::pair<long, double>> rate_segments;
-  // The speed at which an SLIN segment of `length_mm` lasts one interpolation cycle, if it
-  // would last less at `vel_m_per_s`; else NaN.
-  double rate_velocity(double length_mm, double vel_m_per_s) const;
   double vel_requested = std::numeric_limits<double>::quiet_NaN();
   std::string vel_written;  // the last $VEL.CP statement, to skip repeats
   bool have_last = false;

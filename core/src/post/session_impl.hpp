@@ -125,7 +125,6 @@ struct PostSession::Impl {
   double apo_mm = 0.0;
   int velocity_decimals = 6;
   bool rate_vel = false;  // $VEL.CP lowered to the motion rate (timing.cpp, timed_cp)
-  double rate_length_margin_mm = 0.0;
   double orientation_velocity_rad_s = 0.0;
   double ptp_velocity_fraction = 1.0, ptp_acceleration_fraction = 1.0;
   // The postures tracked along the last track_line(), when it took several steps: written one

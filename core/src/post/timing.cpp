@@ -14,6 +14,7 @@
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/tool_axis.hpp"
+#include "redpost/krl/motion_rate.hpp"
 
 namespace redpost {
 
@@ -78,9 +79,6 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   // The motion rate in $VEL.CP goes with the point reduction (--fit-tol 0 writes 0.7's program),
   // and not in SPLINE blocks, which a $VEL.CP ends and which the controller plans whole.
   rate_vel = reducer.enabled() && !templates.spline && c.interpolation_cycle_s > 0.0;
-  // Each printed coordinate is within half a unit of its last decimal: an end moves by at most
-  // sqrt(3) / 2 of one, the length by twice that.
-  rate_length_margin_mm = std::sqrt(3.0) * std::pow(10.0, -templates.position_decimals);
   apo_mm = o.program.apo_mm;
   summary.axis_speeds_known = cell.has_axis_speeds();
   summary.interpolation_cycle_s = c.interpolation_cycle_s;
@@ -155,15 +153,12 @@ TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T
   // it anyway (docs/timing.md, "Point reduction"). Its length is taken short by what the printed
   // decimals may take off both ends, so that a check from the written text finds a cycle too.
   if (rate_vel && length_mm > 1e-6) {
-    const double printed_mm = length_mm - rate_length_margin_mm;
-    const double rate_mm_s = printed_mm / summary.interpolation_cycle_s;
-    if (printed_mm > 0.0 && std::min(t.command_mm_s, t.orientation_cap_mm_s) > rate_mm_s) {
-      const double scale = std::pow(10.0, velocity_decimals);
-      const double m_per_s = std::max(std::floor(rate_mm_s / 1000.0 * scale) / scale, 1.0 / scale);
-      if (m_per_s * 1000.0 < t.command_mm_s) {
-        t.command_mm_s = m_per_s * 1000.0;
-        t.command_joint = TimedMotion::kMotionRate;
-      }
+    const double m_per_s = krl_cycle_velocity(
+        length_mm, std::min(t.command_mm_s, t.orientation_cap_mm_s) / 1000.0,
+        summary.interpolation_cycle_s, templates_position_decimals, velocity_decimals);
+    if (m_per_s * 1000.0 < t.command_mm_s) {
+      t.command_mm_s = m_per_s * 1000.0;
+      t.command_joint = TimedMotion::kMotionRate;
     }
   }
   return t;

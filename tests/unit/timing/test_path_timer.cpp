@@ -334,10 +334,12 @@ TEST_CASE("path_timer: SPLINE segments joined smoothly are one path, with no cyc
   CHECK(cap < 100.0);
   CHECK(curved[500].t.entry_mm_s == Approx(cap).epsilon(1e-9));
   CHECK(curved[500].t.limit == TimingLimit::corner);
-  // The first piece alone (no knot after it): a motion of its own, a cycle at least.
+  // A piece alone (no knot on either side): a motion of its own, so a cycle at least.
   std::vector<TimedMotion> alone(1, cp(1.0, 100.0, rate, x, 0.0));
   const std::vector<Timed> one = run(cell, c, alone);
   CHECK_FALSE(one[0].t.spline_joined);
+  CHECK(one[0].t.below_cycle);
+  CHECK(one[0].t.duration_s >= 0.012);
 }
 
 TEST_CASE("path_timer: the look-ahead of $ADVANCE motions bounds the speed in closed form",

@@ -20,6 +20,15 @@ namespace redpost {
 // 10 m/min) is not decided by the printed $VEL.CP's last decimal.
 inline constexpr double kKrlBelowCycle = 1.0 - 1e-4;
 
+// The $VEL.CP (m/s) at which a CP motion of `length_mm` lasts one interpolation cycle, as a
+// check of the printed program measures it: the length taken short by what the printed
+// decimals of both ends may take off it (sqrt(3) units of the last position decimal), the speed
+// rounded down to the printed decimals (at least one unit). NaN where the motion lasts a cycle
+// at `vel_m_per_s` already, or that length is not above 0. The motion-rate speeds the program
+// states (the session's LINs, a spline set's lone SLINs) come from here.
+double krl_cycle_velocity(double length_mm, double vel_m_per_s, double cycle_s,
+                          int position_decimals, int velocity_decimals);
+
 struct KrlMotionRateOptions {
   double interpolation_cycle_s = 0.012;       // KR C2 and KR C4
   double orientation_velocity_deg_s = 200.0;  // $VEL.ORI1 (BAS (#INITMOV,0)'s, docs/timing.md)
