@@ -7,7 +7,10 @@
 # written, how many last less than one 12 ms cycle at their $VEL.CP (convert's count; `redpost
 # check` counts the same from the written text), the cutting time the cycle-aware model gives
 # against the CL feeds' time, and how far each reduced program's path strays from the CL points
-# (tests/cli/fit_check.py, against the 0.7 program, whose positions are the CL points).
+# (tests/cli/fit_check.py, against the 0.7 program printed with 6 decimals, whose positions are
+# the CL points). Last, the
+# floor: the least time the controller's path limits allow the CL path with arms that never
+# limit it (tests/bench/time_floor.py), against the same CL feeds' time.
 #
 # Usage: tests/bench/motion_rate_table.sh [BUILD_DIR]   (prints a Markdown table)
 set -euo pipefail
@@ -35,6 +38,13 @@ options_of() {
     nx_variable_contour_5axis.cls) echo "--msys apply" ;;
   esac
 }
+# The floor (tests/bench/time_floor.py) needs the rapids' positions (krc4_circ with Cartesian PTPs)
+# and every feed move written at its feed (the cell without axis speeds, planned pose by pose).
+sed '/<speed velocity=/d' "$cell" >"$work/free_cell.xml"
+sed 's#<statement name="rapid">PTP {E6AXIS:[^<]*<#<statement name="rapid">PTP {E6POS: X {x}, Y {y}, Z {z}, A {a}, B {b}, C {c}{ext}}<#' \
+  "$top/definitions/krl/krc4_circ.xml" >"$work/circ_cartesian.xml"
+sed 's#<numbers [^>]*>#<numbers position="6" angle="6" external="6" velocity="6" rpm="0"/>#' \
+  "$top/definitions/krl/krc4_circ.xml" >"$work/krc4_circ_exact.xml"
 inputs=("$work/raster_20k.apt" "$top"/examples/cl/*)
 evaldata=$top/../shared/evaldata
 [[ -d $evaldata ]] && inputs+=("$evaldata"/apt/*.apt "$evaldata"/clsf/*)
@@ -58,9 +68,11 @@ convert_at() {
   echo "$motions|${below:-0}|$ratio"
 }
 
-# fit_of REDUCED REFERENCE: "mm, deg" of the largest deviation of a CL point from the path.
+# fit_of REDUCED REFERENCE: "mm, deg" of the largest deviation of a CL point from the path. The
+# reference is krc4_circ with --fit-tol 0, printed with 6 decimals (krc4_circ_exact below): its CL points are exact to 1e-6, and the
+# reduced program's own decimals must stay within the tolerance.
 fit_of() {
-  (python3 "$top/tests/cli/fit_check.py" "$1" "$2" || true) |
+  (python3 "$top/tests/cli/fit_check.py" "$1" "$2" --slack-mm 1e-6 --slack-deg 1e-5 || true) |
     sed -n 's/.*largest deviation \([0-9.]*\) mm and \([0-9.]*\) deg.*; \([0-9]*\) outside.*/\1, \2 (\3 outside)/p'
 }
 
@@ -68,10 +80,11 @@ echo
 echo "Each cell: 0.7 (krc4_lin, --fit-tol 0) → reduction, krc4_lin → reduction, krc4_circ; the"
 echo "time also → krc4_circ with --preset fast; the deviation for krc4_lin and krc4_circ. Then"
 echo "krc4_spline with the reduction (SPL where the path is smooth): motions and those below 12 ms,"
-echo "the time (→ with --preset fast), the deviation."
+echo "the time (→ with --preset fast), the deviation. Last, the floor: the least time over the CL"
+echo "feeds' time that \$ACC.CP, \$VEL.ORI1 and the blend allow the path (tests/bench/time_floor.py)."
 echo
-echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) | spline: motions, below 12 ms | spline: time | spline: deviation |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| file | motions | below 12 ms | cutting time / CL feeds' time | largest deviation (mm, deg) | spline: motions, below 12 ms | spline: time | spline: deviation | floor |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for f in "${inputs[@]}"; do
   name=$(basename "$f")
   fast=$work/fast_$name
@@ -83,9 +96,14 @@ for f in "${inputs[@]}"; do
     echo "| $label | $before | | | |"
     continue
   fi
+  convert_at "$fast" "$name" "$work/exact_$name" --fit-tol 0 --krl "$work/krc4_circ_exact.xml" >/dev/null
   lin=$(convert_at "$fast" "$name" "$work/lin_$name")
   circ=$(convert_at "$fast" "$name" "$work/circ_$name" --krl krc4_circ)
   quick=$(convert_at "$fast" "$name" "$work/quick_$name" --krl krc4_circ --preset fast)
+  cell=$work/free_cell.xml convert_at "$fast" "$name" "$work/floor_$name" \
+    --krl "$work/circ_cartesian.xml" --fit-tol 0 --plan local >/dev/null
+  floor=$( (python3 "$top/tests/bench/time_floor.py" "$work/floor_$name/P.src" --feed 10000 || true) |
+    sed -n 's/.*floor .* s (\([0-9.]*x\)).*/\1/p')
   spl=$(convert_at "$fast" "$name" "$work/spl_$name" --krl krc4_spline)
   splquick=$(convert_at "$fast" "$name" "$work/splquick_$name" --krl krc4_spline --preset fast)
   IFS='|' read -r m0 b0 r0 <<<"$before"
@@ -94,8 +112,8 @@ for f in "${inputs[@]}"; do
   IFS='|' read -r _ _ r3 <<<"$quick"
   IFS='|' read -r m4 b4 r4 <<<"$spl"
   IFS='|' read -r _ _ r5 <<<"$splquick"
-  fit_lin=$(fit_of "$work/lin_$name/P.src" "$work/before_$name/P.src")
-  fit_circ=$(fit_of "$work/circ_$name/P.src" "$work/before_$name/P.src")
-  fit_spl=$(fit_of "$work/spl_$name/P.src" "$work/before_$name/P.src")
-  echo "| $label | $m0 → $m1 → $m2 | $b0 → $b1 → $b2 | $r0 → $r1 → $r2 → $r3 | ${fit_lin:-fit check failed}; ${fit_circ:-fit check failed} | $m4, $b4 | $r4 → $r5 | ${fit_spl:-fit check failed} |"
+  fit_lin=$(fit_of "$work/lin_$name/P.src" "$work/exact_$name/P.src")
+  fit_circ=$(fit_of "$work/circ_$name/P.src" "$work/exact_$name/P.src")
+  fit_spl=$(fit_of "$work/spl_$name/P.src" "$work/exact_$name/P.src")
+  echo "| $label | $m0 → $m1 → $m2 | $b0 → $b1 → $b2 | $r0 → $r1 → $r2 → $r3 | ${fit_lin:-fit check failed}; ${fit_circ:-fit check failed} | $m4, $b4 | $r4 → $r5 | ${fit_spl:-fit check failed} | ${floor:-?} |"
 done

@@ -3,6 +3,7 @@
 KRL alone (docs/timing.md, "Point reduction"; issue 30).
 
     fit_check.py REDUCED.src REFERENCE.src [--tol MM] [--ang-tol DEG]
+                 [--slack-mm MM] [--slack-deg DEG]
 
 REFERENCE is the same toolpath converted with --fit-tol 0: one CP motion per CL point, so its
 printed positions and tool axes are the CL points. REDUCED is the program to check. The path of
@@ -12,7 +13,9 @@ control), a CIRC along the circle through its auxiliary point, the segments of a
 as the model of docs/krl-templates.md ("SPL segments") draws them. Every reference point must lie
 within --tol (0.01 mm) of that path, in order, and its tool axis (z of the frame) within
 --ang-tol (0.1 deg) of the path's tool axis where the path passes it, plus what the printed
-decimals can hide (0.001 mm, 0.0002 deg). PTPs split both programs into stretches that must
+decimals of the reference can hide (--slack-mm 0.001, --slack-deg 0.0002; a reference written
+with 6 decimals, as tests/bench/motion_rate_table.sh writes it, needs none: the REDUCED
+program's own decimals must then stay within the tolerances). PTPs split both programs into stretches that must
 match one for one; the reference's first point of a stretch must be a point of the reduced one
 (the reduction never drops the point after a PTP, whose position the program does not print),
 and the reduced motions before it are not checked. Between the points, every sample of a curve
@@ -27,8 +30,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from speed_check import aggregate, program_lines, rotation  # noqa: E402
 
-POS_SLACK_MM = 1e-3
-ANG_SLACK_DEG = 2e-4
+POS_SLACK_MM = 1e-3  # the printed decimals of both programs: where a stretch starts
 
 
 def quat(r):
@@ -242,6 +244,11 @@ def main(argv):
         k = args.index("--tol"); tol = float(args[k + 1]); del args[k:k + 2]
     if "--ang-tol" in args:
         k = args.index("--ang-tol"); ang_tol = float(args[k + 1]); del args[k:k + 2]
+    slack_mm, slack_deg = 1e-3, 2e-4
+    if "--slack-mm" in args:
+        k = args.index("--slack-mm"); slack_mm = float(args[k + 1]); del args[k:k + 2]
+    if "--slack-deg" in args:
+        k = args.index("--slack-deg"); slack_deg = float(args[k + 1]); del args[k:k + 2]
     if len(args) != 2:
         print(__doc__, file=sys.stderr)
         return 2
@@ -268,12 +275,12 @@ def main(argv):
             found = None
             for k in range(j, len(path) - 1):
                 t, d = nearest(path[k][0], path[k + 1][0], p)
-                if d <= tol + POS_SLACK_MM:
+                if d <= tol + slack_mm:
                     found = (k, t, d)
                     break
             if found is None:
                 d = math.dist(path[-1][0], p) if j == len(path) - 1 else float("inf")
-                if d <= tol + POS_SLACK_MM:
+                if d <= tol + slack_mm:
                     found = (len(path) - 1, 0.0, d)
             if found is None:
                 failures += 1
@@ -286,7 +293,7 @@ def main(argv):
             q_path = path[k][1] if k == len(path) - 1 else slerp(path[k][1], path[k + 1][1], t)
             a = angle(z_axis(q_path), z_axis(q))
             worst_d, worst_a = max(worst_d, d), max(worst_a, a)
-            if a > ang_tol + ANG_SLACK_DEG:
+            if a > ang_tol + slack_deg:
                 failures += 1
                 if failures <= 10:
                     print(f"fit_check: stretch {g + 1}: at {p} the tool axis is {a:.4f} deg from "
@@ -301,7 +308,7 @@ def main(argv):
             found = None
             for k in range(r, min(len(ref) - 1, r + 5000)):
                 _, d = nearest(ref[k][0], ref[k + 1][0], p)
-                if d <= tol + POS_SLACK_MM:
+                if d <= tol + slack_mm:
                     found = (k, d)
                     break
             if found is None:

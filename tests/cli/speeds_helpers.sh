@@ -39,23 +39,45 @@ speeds() {
 fast() {
   sed -E 's#FEDRAT/MMPM,[ ]*[0-9.]+#FEDRAT/MMPM,10000#; s#FEDRAT/[ ]*[0-9.]+,[ ]*MMPM#FEDRAT/10000,MMPM#; s#^(CYCLE/.*MMPM,)[ ]*[0-9.]+#\110000#' \
     "$1" >"$2"
-  grep -q 'FEDRAT/\(MMPM,10000\|10000,MMPM\)' "$2" || fail "no feed replaced in $1"
+  grep -Eq 'FEDRAT/(MMPM,10000|10000,MMPM)|^CYCLE/.*MMPM,10000' "$2" || fail "no feed replaced in $1"
+}
+
+# exact_set NAME: the shipped template set NAME printed with 6 decimals (a file in $TMP): a
+# program of it states the CL points to 1e-6 mm, so that a check against them needs no slack.
+exact_set() {
+  local out=$TMP/${1}_exact.xml
+  [[ -f $out ]] ||
+    sed 's#<numbers [^>]*>#<numbers position="6" angle="6" external="6" velocity="6" rpm="0"/>#' \
+      "$SRC/definitions/krl/$1.xml" >"$out"
+  echo "$out"
 }
 
 # fit NAME CL_FILE [convert options...]: converts CL_FILE with the point reduction (the default)
-# and without it (--fit-tol 0), both with a joints log, and checks from the two written programs
-# that every CL point lies within 0.01 mm and 0.1 deg of the reduced program's path
-# (tests/cli/fit_check.py), and the reduced one's axis speeds (speed_check.py).
+# and without it (--fit-tol 0, the same set printed with 6 decimals), both with a joints log, and
+# checks from the two written programs that every CL point lies within 0.01 mm and 0.1 deg of
+# the reduced program's path as it is printed, with no slack (tests/cli/fit_check.py), and the
+# reduced one's axis speeds (speed_check.py).
 fit() {
   local name=$1 cl=$2
   shift 2
   speeds "$name" "$cl" "$@"
   cp "$TMP/out" "$TMP/$name.out"
+  local ref_options=() set=krc4_lin
+  while (($#)); do
+    if [[ $1 == --krl ]]; then
+      set=$2
+      shift 2
+    else
+      ref_options+=("$1")
+      shift
+    fi
+  done
   mkdir -p "$TMP/${name}_ref"
-  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q "$@"
+  run convert "$cl" --cell "$cell" -o "$TMP/${name}_ref" --name P --fit-tol 0 -q \
+    --krl "$(exact_set "$set")" "${ref_options[@]}"
   expect_rc 0
-  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" >"$TMP/fit" 2>&1 ||
-    fail "$name: $(cat "$TMP/fit")"
+  $py "$SRC/tests/cli/fit_check.py" "$TMP/$name/P.src" "$TMP/${name}_ref/P.src" \
+    --slack-mm 1e-6 --slack-deg 1e-5 >"$TMP/fit" 2>&1 || fail "$name: $(cat "$TMP/fit")"
   echo "cli.speeds: $name: $(cat "$TMP/fit")"
   # Issue 30: with the reduction no CP motion lasts less than one cycle at its \$VEL.CP, as
   # convert says and as the check counts from the text.

@@ -168,15 +168,16 @@ mkdir -p "$TMP/fast"
 sed -e 's/\$VEL.CP = 0.015000/$VEL.CP = 0.150000/' -e 's/TOOL_DATA\[1\]/TOOL_DATA[2]/' \
   "$TMP/ref/P.src" >"$TMP/fast/P.src"
 cp "$TMP/ref/P.dat" "$TMP/fast/P.dat"
+motions=$(grep -cE '^(PTP|LIN|CIRC) ' "$TMP/ref/P.src")
 run diff "$TMP/ref/P.src" "$TMP/fast/P.src"
 expect_rc 1
 expect_out "vel_cp differs at "
 expect_out "A 0.015 m/s, B 0.15 m/s"
-expect_out "tool differs at 177 motions: A TOOL_DATA[1], B TOOL_DATA[2]"
+expect_out "tool differs at $motions motions: A TOOL_DATA[1], B TOOL_DATA[2]"
 [[ $(grep -c ": LIN / LIN:" "$TMP/out") -eq 0 ]] || fail "settings listed motion by motion"
 run diff "$TMP/ref/P.src" "$TMP/apo/P.src"
 expect_rc 1
-expect_out "apo_cdis differs at 177 motions: A 0.5 mm, B 1 mm"
+expect_out "apo_cdis differs at $motions motions: A 0.5 mm, B 1 mm"
 # Another chordal tolerance: point by point the programs differ; as curves they are within the
 # coarser tolerance (0.01 mm), and equal once the redundancy's freedom (the track, the table and
 # the spin, which the planner places anew for other points) is given its tolerance.
@@ -184,9 +185,9 @@ run diff "$TMP/ref/P.src" "$TMP/fine/P.src"
 expect_rc 1
 grep -Eq "paths as curves: the largest distance from a point of one program to the other's path is 0\.00[0-9]* mm" \
   "$TMP/out" || fail "the curve distance is not within 0.01 mm: $(grep 'paths as' "$TMP/out")"
-run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.01 --axis-tol 1 --ang-tol 1
+run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.01 --axis-tol 2 --ang-tol 1
 expect_rc 0
-run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.001 --axis-tol 1 --ang-tol 1
+run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.001 --axis-tol 2 --ang-tol 1
 expect_rc 1
 expect_out "path differs at "
 passed

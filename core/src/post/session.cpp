@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -22,6 +23,21 @@ namespace {
 // points); the rest is the SPL segments' (krl/spline_model.hpp).
 constexpr double kSplineLineShare = 0.1;
 
+// What of --fit-tol (mm) the written path may take: the printed decimals move each written
+// point by up to sqrt(3)/2 of their last place, and every CL point must stay within --fit-tol of
+// the path the program prints (issue 30), not only of the one the session computed. A set that
+// prints too few decimals for the tolerance keeps a tenth of it.
+double path_budget_mm(double fit_tolerance_mm, int position_decimals) {
+  const double printing_mm = 0.5 * std::sqrt(3.0) * std::pow(10.0, -position_decimals);
+  return std::max(fit_tolerance_mm - printing_mm, 0.1 * fit_tolerance_mm);
+}
+
+// The same for --fit-ang-tol (deg): each of A, B and C moves by up to half its last place.
+double axis_budget_deg(double fit_angle_tolerance_deg, const KrlTemplateSet& t) {
+  const double printing_deg = 1.5 * std::pow(10.0, -t.angle_decimals);
+  return std::max(fit_angle_tolerance_deg - printing_deg, 0.1 * fit_angle_tolerance_deg);
+}
+
 // The writer's program settings that come from the cell: how $BASE is set (a turntable as a
 // mathematically coupled kinematic), the number of external axes, the tool change routine.
 KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemplateSet& t) {
@@ -32,7 +48,8 @@ KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemp
   // tolerance is refused by the session, in --fit-tol's words, not by the writer.
   const double tolerance_mm = o.reduction.tolerance_mm;
   if (std::isfinite(tolerance_mm) && tolerance_mm > 0.0) {
-    info.spline_tolerance_mm = (1.0 - kSplineLineShare) * tolerance_mm;
+    info.spline_tolerance_mm =
+        (1.0 - kSplineLineShare) * path_budget_mm(tolerance_mm, t.position_decimals);
     info.interpolation_cycle_s = t.timing.interpolation_cycle_ms / 1000.0;
   }
   const ControllerSettings& c = cell.controller;
@@ -61,15 +78,25 @@ ClExpanderOptions expander_options(const PostOptions& o) {
 
 // The reduction fits arcs where the writer may write a CIRC (each one proven there, circ.cpp):
 // a set with CIRC, and no deflection model (which gives every chord its own load and target).
-PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& writer) {
+PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& writer,
+                                    const KrlTemplateSet& t) {
   PointReductionOptions r = o.reduction;
   r.arcs = writer.has_circ() && o.deflection == DeflectionMode::off;
+  if (point_reduction_problem(r).empty() && r.tolerance_mm > 0.0) {
+    r.tolerance_mm = path_budget_mm(r.tolerance_mm, t.position_decimals);
+    r.axis_tolerance_deg = axis_budget_deg(r.axis_tolerance_deg, t);
+  }
   if (writer.has_spl())
     r.tolerance_mm *= kSplineLineShare;
   return r;
 }
 
 }  // namespace
+
+double PostSession::Impl::cl_arc_tolerance_mm() const {
+  return reducer.enabled() ? path_budget_mm(o.chordal_tolerance_mm, templates_position_decimals)
+                           : o.chordal_tolerance_mm;
+}
 
 PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const PostOptions& options)
     : cell(c),
@@ -82,7 +109,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
             [this](const std::string& w) { summary.warnings.push_back(w); }),
-      reducer(reduction_for(options, writer)) {
+      reducer(reduction_for(options, writer, templates)) {
   if (const std::string why = point_reduction_problem(o.reduction); !why.empty())
     throw Error(ErrorCode::bad_input, why);
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
@@ -284,11 +311,11 @@ void PostSession::route(const ClEvent& e) {
       if (e.rapid)
         rapid();
       // An arc the point reduction fitted through CL points keeps the reducer's other half of
-      // the tolerance; a CIRCLE the chordal tolerance.
+      // the tolerance; a CIRCLE the chordal tolerance (cl_arc_tolerance_mm).
       impl_->move_first_line = e.first_line;
       impl_->circular_move(e.arc_centre_mm, e.arc_axis, e.value, e.p_mm, e.tool_axis, e.line,
                            e.origin == MoveOrigin::fitted_arc ? impl_->reducer.arc_tolerance_mm()
-                                                              : impl_->o.chordal_tolerance_mm);
+                                                              : impl_->cl_arc_tolerance_mm());
       impl_->move_first_line = 0;
       break;
     case ClEventKind::machine_frame:
@@ -442,7 +469,7 @@ void PostSession::circular_move(const Eigen::Vector3d& centre, const Eigen::Vect
   if (defer(e))
     return;
   impl_->circular_move(centre, axis, radius_mm, p_mm, tool_axis, cl_line,
-                       impl_->o.chordal_tolerance_mm);
+                       impl_->cl_arc_tolerance_mm());
 }
 
 void PostSession::coolant(bool on, const std::string& mode) {

@@ -215,6 +215,9 @@ struct PostSession::Impl {
   std::optional<ClearancePlane> plane_for(const ClearancePlane* cycle) const;
   void remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis);
   // chordal_tolerance_mm: the arc's chords, and the controller's circle, keep within it.
+  // How far a CL arc's chords or CIRC may leave it: the chordal tolerance, less the printed
+  // decimals' share where the point reduction is on (--fit-tol 0 keeps 0.7's chords).
+  double cl_arc_tolerance_mm() const;
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line,
                      double chordal_tolerance_mm);

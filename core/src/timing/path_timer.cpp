@@ -187,7 +187,15 @@ void PathTimer::push(const TimedMotion& motion) {
         }
         const double dt = (e.m.tangent - prev.m.exit_tangent).norm();
         if (dt > 0.0) {
-          const double c = std::sqrt(controller_.path_acceleration_mm_s2 * d / dt);
+          // The velocity turns by v |t_next - t| over the blend. Past 120 deg of turn the blend
+          // has less room than its length: the widest arc between the two legs, tangent to
+          // them d from the corner, has the radius d / tan(turn / 2), which reaches 0 at a
+          // reversal (a peck's bottom): there the path stops.
+          const double half_turn_sin = std::min(1.0, 0.5 * dt);
+          const double half_turn_tan =
+              half_turn_sin / std::sqrt(std::max(0.0, 1.0 - half_turn_sin * half_turn_sin));
+          const double c =
+              std::sqrt(controller_.path_acceleration_mm_s2 * d / std::max(dt, half_turn_tan));
           if (c < v) {
             v = c;
             which = -2;

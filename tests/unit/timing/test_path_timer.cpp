@@ -1,5 +1,6 @@
 // The time model (redpost/timing/path_timer.hpp) against closed forms and against a brute-force
 // integration of the fastest profile on a fine grid of the path, with its own corner formula.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -190,6 +191,9 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
           rate[i] += (u(rng) - 0.5) * (cell.joint(i).type == JointType::prismatic ? 0.6 : 0.004);
       }
       dir = (dir + 0.3 * Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5)).normalized();
+      if (u(rng) < 0.15)  // a sharp turn (over 120 deg: the arc's room) or a reversal
+        dir = u(rng) < 0.3 ? Eigen::Vector3d(-dir)
+                           : Eigen::Vector3d(-dir + 0.4 * dir.unitOrthogonal()).normalized();
       TimedMotion m = cp(length, speed, rate, dir, u(rng) < 0.1 ? 0.0 : 0.5 + u(rng));
       if (u(rng) < 0.05)
         m.stop_after = true;
@@ -230,9 +234,13 @@ TEST_CASE("path_timer: random paths against a brute-force profile on a fine grid
           if (cell.joint(i).has_speed() && dr > 0.0)
             j = std::min(j, std::sqrt(cell.joint(i).max_acceleration * d / dr));
         }
-        const double dt = (nx.tangent - m.tangent).norm();
-        if (dt > 0.0)
-          j = std::min(j, std::sqrt(c.path_acceleration_mm_s2 * d / dt));
+        // The TCP's turn by its angle: the velocity turns by 2 v sin(turn / 2) over d, and the
+        // widest arc tangent to both legs d from the corner has the radius d / tan(turn / 2).
+        const double turn = std::acos(std::clamp(nx.tangent.dot(m.tangent), -1.0, 1.0));
+        if (turn > 0.0) {
+          const double room = std::max(2.0 * std::sin(0.5 * turn), std::tan(0.5 * turn));
+          j = std::min(j, room > 1e12 ? 0.0 : std::sqrt(c.path_acceleration_mm_s2 * d / room));
+        }
       }
       cap.back() = std::min(cap.back(), j);  // the grid point at the motion's end
     }
@@ -397,6 +405,33 @@ TEST_CASE("path_timer: a corner is judged by the motions' directions at their en
   REQUIRE(by_ends.size() == 2);
   CHECK(by_ends[0].t.exit_mm_s == Approx(100.0));
   CHECK(total(by_ends) < total(by_chord));
+}
+
+TEST_CASE("path_timer: a sharp turn is capped by the widest arc, a reversal stops", "[timing]") {
+  // Two blended 10 mm LINs at 166.7 mm/s with $APO.CDIS 0.5 mm. At 90 deg the velocity turns by
+  // v sqrt(2) over the blend: sqrt(a d / sqrt(2)). At 150 deg the widest arc tangent to both legs
+  // 0.5 mm from the corner has the radius 0.5 / tan(75 deg) = 0.134 mm: sqrt(a r). Reversed (a
+  // peck's bottom), the path stops, and the pair takes two stop-to-stop profiles.
+  const Cell cell = timing_cell();
+  ControllerTiming c = unclocked();
+  c.path_acceleration_mm_s2 = 2000.0;
+  const JointVector rate = JointVector::Zero(cell.size());
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  const double pi = 3.14159265358979323846;
+  for (const double turn_deg : {90.0, 150.0, 180.0}) {
+    const double turn = turn_deg * pi / 180.0;
+    const Eigen::Vector3d out(std::cos(turn), std::sin(turn), 0.0);
+    const std::vector<Timed> t =
+        run(cell, c,
+            {cp(10.0, 10000.0 / 60.0, rate, x, 0.5), cp(10.0, 10000.0 / 60.0, rate, out, 0.5)});
+    REQUIRE(t.size() == 2);
+    const double expected = turn_deg == 90.0    ? std::sqrt(2000.0 * 0.5 / std::sqrt(2.0))
+                            : turn_deg == 150.0 ? std::sqrt(2000.0 * 0.5 / std::tan(0.5 * turn))
+                                                : 0.0;
+    CHECK(t[0].t.exit_mm_s == Approx(expected).margin(1e-6));
+    if (turn_deg == 180.0)
+      CHECK(total(t) == Approx(2.0 * PathTimer::stop_to_stop_s(10.0, 10000.0 / 60.0, 2000.0)));
+  }
 }
 
 TEST_CASE("path_timer: a circle's radius caps its speed at sqrt(a r), its normal acceleration",
