@@ -56,6 +56,16 @@ printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nSPINDL/8000,RPM,CLW\nFEDRAT/0\nGOTO/-1
   >"$GEN/feed_zero.apt"
 printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nFEDRAT/MMPM,2000\nGOTO/-100,-300,60\nGOTO/-100,-310,60\n' \
   >"$GEN/no_spindle.apt"
+# A spindle speed no milling spindle runs (issue 31): refused at its line.
+printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nSPINDL/RPM,5000000,CLW\nFEDRAT/MMPM,2000\nGOTO/-100,-300,60\n' \
+  >"$GEN/spindle_5e6.apt"
+# Template sets whose fixed text a controller (and redpost check) would reject (issue 31): a
+# 40-character name in the src skeleton (line 35, the $ADVANCE line of krc4_lin), and a
+# statement that is not KRL.
+sed 's/^\$ADVANCE = 3$/AN_IDENTIFIER_OF_FORTY_CHARACTERS_LONG_X = 3/' \
+  "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/long_name_krl.xml"
+sed 's#<statement name="tool_select">$TOOL = {tool}</statement>#<statement name="tool_select">SELECT TOOL {tool} NOW</statement>#' \
+  "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/bad_statement_krl.xml"
 # Binary garbage: a compressed CL file (a common mistake) and a compressed readings file.
 gzip -c "$SRC/examples/cl/pocket_arcs.apt" >"$GEN/pocket_arcs.apt.gz"
 # A NUL in an INSERT's text (it once cut the text there), and a cell file with a second root.

@@ -1,6 +1,7 @@
 // A static check of KRL programs (docs/krl-diff.md).
 #include "redpost/krl/check.hpp"
 
+#include "krl/check_motions.hpp"
 #include "krl/reader_parse.hpp"
 
 #include <algorithm>
@@ -261,12 +262,6 @@ std::string dat_of(const fs::path& src) {
                                src.stem().string(), "dat");
 }
 
-// A program larger than a controller loads is still read, so that check says so (a finding)
-// rather than failing; the bound only stops a hostile input from taking any amount of memory.
-std::string read_all(const std::string& path) {
-  return krl::read_krl_text(path);
-}
-
 // The text checks of one file, fed line by line: what is open (DEFs, FOLDs) and what was found.
 struct TextCheck {
   explicit TextCheck(const std::string& checked_file) : file(checked_file) {}
@@ -279,6 +274,24 @@ struct TextCheck {
   std::vector<KrlFinding> out;
 
   void find(int line, std::string message) { out.push_back({file, line, std::move(message)}); }
+
+  // Lines that end in CR alone (classic Mac OS): the whole file would read as one line, and
+  // every check after this would report a consequence ("no END") instead of the cause.
+  void cr_alone(int line) {
+    find(line,
+         "a carriage return (CR) inside the line: the file's lines end in CR alone "
+         "(classic Mac OS line endings), or a line holds a stray CR; a KRC reads "
+         "CR LF: convert the line endings");
+  }
+
+  // What is still open at the end of the file.
+  std::vector<KrlFinding> finish() {
+    for (const Block& b : blocks)
+      find(b.line, fmt::format("{} {} has no {}", b.kind, b.name, closing_of(b.kind)));
+    for (int l : folds)
+      find(l, "FOLD without a matching ENDFOLD");
+    return std::move(out);
+  }
 
   void check_line(int line_no, const std::string& line) {
     const std::string t = trim(line);
@@ -401,7 +414,10 @@ struct TextCheck {
 
   // Declarations before statements. True for a declaration; notes the first statement.
   bool declaration_order(int line_no, const std::string& code, const std::vector<std::string>& w) {
-    if (declaration(code, w, nullptr)) {
+    std::vector<std::string> names;
+    if (declaration(code, w, &names)) {
+      // Declared from here on (KRL declares before it uses: a file is read once, in order).
+      declared.insert(names.begin(), names.end());
       if (!blocks.empty() && blocks.back().kind != "DEFDAT" && blocks.back().first_statement > 0)
         find(line_no, fmt::format("declaration after the first statement (line {}): KRL "
                                   "requires declarations before statements",
@@ -516,122 +532,57 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
     if (cr + 1 < text.size() && text[cr + 1] != '\n') {
       const int line = 1 + static_cast<int>(std::count(text.begin(),
                                                        text.begin() + static_cast<long>(cr), '\n'));
-      c.find(line,
-             "a carriage return (CR) inside the line: the file's lines end in CR alone "
-             "(classic Mac OS line endings), or a line holds a stray CR; a KRC reads "
-             "CR LF: convert the line endings");
+      c.cr_alone(line);
       return c.out;
     }
   }
   c.declared.insert(dat_declared.begin(), dat_declared.end());
-  for (const std::string& n : krl_declared_names(text))
-    c.declared.insert(n);
-
   for_each_line(text, [&](int line_no, const std::string& line) { c.check_line(line_no, line); });
-  for (const Block& b : c.blocks)
-    c.find(b.line, fmt::format("{} {} has no {}", b.kind, b.name, closing_of(b.kind)));
-  for (int l : c.folds)
-    c.find(l, "FOLD without a matching ENDFOLD");
-  return std::move(c.out);
+  return c.finish();
 }
 
-std::vector<KrlFinding> check_krl_motions(const KrlProgram& program,
-                                          const KrlCheckOptions& options) {
-  std::vector<KrlFinding> out;
-  // S and T on the first Cartesian PTP: without them the controller picks the posture from
-  // wherever the robot happens to be.
-  for (const KrlMotionRecord& m : program.motions) {
-    const std::string kw = upper(m.keyword);
-    if (m.relative || (kw != "PTP" && kw != "SPTP"))
-      continue;
-    const KrlAggregate& t = m.target;
-    const bool cartesian =
-        t.has("X") || t.has("Y") || t.has("Z") || t.has("A") || t.has("B") || t.has("C");
-    if (!cartesian)
-      continue;
-    if (!t.status || !t.turn) {
-      const std::string missing = !t.status && !t.turn ? "S and T" : !t.status ? "S" : "T";
-      out.push_back({m.file, m.line,
-                     fmt::format("the first Cartesian {} has no {}: the posture is then left "
-                                 "to the robot's current one",
-                                 kw, missing)});
-    }
-    break;
-  }
-  if (options.motion_rate.interpolation_cycle_s > 0.0) {
-    KrlMotionRate rate = krl_motion_rate(program, options.motion_rate);
-    const double cycle_ms = 1000.0 * options.motion_rate.interpolation_cycle_s;
-    for (std::size_t i = 0; i < rate.stretches.size(); ++i) {
-      const KrlShortStretch& st = rate.stretches[i];
-      if (i == kKrlMaxShortStretchWarnings) {
-        out.push_back({st.file, st.first_line,
-                       fmt::format("{} more stretches of motions shorter than the {:g} ms "
-                                   "interpolation cycle from here (not listed)",
-                                   rate.stretches.size() - i, cycle_ms),
-                       true});
-        break;
-      }
-      const std::string lines =
-          st.first_line == st.last_line
-              ? fmt::format("this motion")
-              : fmt::format("{} CP motions to line {}", st.motions, st.last_line);
-      out.push_back(
-          {st.file, st.first_line,
-           fmt::format("{} last{} less than one {:g} ms interpolation cycle at the $VEL.CP in "
-                       "force (shortest {:.1f} ms): the controller cannot run {} that fast "
-                       "(docs/timing.md)",
-                       lines, st.motions == 1 ? "s" : "", cycle_ms, 1000.0 * st.shortest_s,
-                       st.motions == 1 ? "it" : "them"),
-           true});
-    }
-    if (options.motion_rates)
-      options.motion_rates->emplace_back(program.main_file, std::move(rate));
-  }
-  if (options.cell) {
-    const Cell& cell = *options.cell;
-    const char* const names[12] = {"A1", "A2", "A3", "A4", "A5", "A6",
-                                   "E1", "E2", "E3", "E4", "E5", "E6"};
-    std::set<std::string> unmapped_reported;
-    for (const KrlMotionRecord& m : program.motions) {
-      if (m.relative)
-        continue;
-      for (int a = 0; a < 12; ++a) {
-        auto it = m.target.values.find(names[a]);
-        if (it == m.target.values.end())
-          continue;
-        const AxisKind kind = a < 6 ? AxisKind::arm : AxisKind::external;
-        const int number = a < 6 ? a + 1 : a - 5;
-        bool mapped = false;
-        for (int j = 0; j < cell.size(); ++j) {
-          const Joint& joint = cell.joint(j);
-          if (joint.axis.kind != kind || joint.axis.number != number)
-            continue;
-          mapped = true;
-          const double q = from_axis_value(joint, it->second);
-          const double slack = 1e-9 * std::max(1.0, std::abs(joint.upper - joint.lower));
-          if (q < joint.lower - slack || q > joint.upper + slack) {
-            double lo = to_axis_value(joint, joint.lower), hi = to_axis_value(joint, joint.upper);
-            if (lo > hi)
-              std::swap(lo, hi);
-            out.push_back({m.file, m.line,
-                           fmt::format("{} {:g} is outside the limits [{:g}, {:g}] of joint '{}'",
-                                       names[a], it->second, lo, hi, joint.name)});
-          }
+namespace {
+
+// The text checks of a file read a line at a time (memory: one line, the blocks open and the
+// names declared). `declared`: the names declared in its .dat; on return, with the file's own.
+std::vector<KrlFinding> check_krl_file(const std::string& file, std::set<std::string>& declared,
+                                       const KrlCheckOptions& options) {
+  TextCheck c(file);
+  c.declared = std::move(declared);
+  bool cr_alone = false;
+  const std::size_t bytes =
+      krl::for_each_krl_line(file, [&](int line, const std::string& text, std::string_view ending) {
+        if (ending == "\r") {
+          c.out.clear();
+          c.cr_alone(line);
+          cr_alone = true;
+          return false;
         }
-        // A value for an axis the cell does not have: 0 is what posts write for axes that are
-        // not there; anything else moves an axis the cell does not model (a program for
-        // another cell?). Once per axis and file.
-        if (!mapped && it->second != 0.0 &&
-            unmapped_reported.insert(m.file + "#" + names[a]).second) {
-          out.push_back({m.file, m.line,
-                         fmt::format("{} is {:g}, but the cell '{}' maps no joint to {}: is the "
-                                     "program for this cell?",
-                                     names[a], it->second, cell.name, names[a])});
-        }
-      }
-    }
-  }
-  return out;
+        c.check_line(line, text);
+        return true;
+      });
+  declared = std::move(c.declared);
+  if (cr_alone)
+    return std::move(c.out);
+  if (bytes > options.max_bytes)
+    c.find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", bytes,
+                          options.max_bytes));
+  return c.finish();
+}
+
+}  // namespace
+
+KrlFinding check_krl_statements(const std::string& lines) {
+  const std::string text = "DEF REDPOST_CHECK( )\n" + lines + "\nEND\n";
+  KrlCheckOptions options;
+  std::vector<KrlFinding> found = check_krl_text("", text, {}, options);
+  if (found.empty())
+    return {};
+  KrlFinding first =
+      *std::min_element(found.begin(), found.end(),
+                        [](const KrlFinding& a, const KrlFinding& b) { return a.line < b.line; });
+  first.line = std::max(1, first.line - 1);
+  return first;
 }
 
 std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions& options) {
@@ -674,8 +625,11 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
   std::vector<KrlFinding> reader_stops;  // programs the reader rejected
   for (const std::string& m : mains) {
     try {
-      const KrlProgram program = read_krl_program(m);
-      for (KrlFinding& f : check_krl_motions(program, options))
+      // Streamed: a motion at a time, so that memory does not grow with the program.
+      krl::MotionChecks checks(options, m);
+      const KrlProgram program =
+          read_krl_program(m, [&](const KrlMotionRecord& r) { checks.add(r); });
+      for (KrlFinding& f : checks.finish())
         out.push_back(std::move(f));
       if (!directory)
         for (const std::string& f : program.files)
@@ -691,19 +645,22 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
   if (!directory && seen.insert(normal(path)).second)
     srcs.insert(srcs.begin(), path);
 
-  // Names declared GLOBAL in any .dat beside the programs are visible everywhere.
+  // Each file read once, a line at a time: the .dat first, whose names the .src may use.
+  std::map<std::string, std::set<std::string>> dat_names;  // by normal path
   for (const std::string& src : srcs) {
-    const std::string src_text = read_all(src);
     const std::string dat = dat_of(fs::path(src));
-    std::vector<std::string> dat_names;
+    std::set<std::string> declared;
     if (!dat.empty()) {
-      const std::string dat_text = read_all(dat);
-      dat_names = krl_declared_names(dat_text);
-      if (seen.insert(normal(dat) + "#dat").second)
-        for (KrlFinding& f : check_krl_text(dat, dat_text, {}, options))
+      const auto known = dat_names.find(normal(dat));
+      if (known == dat_names.end()) {
+        for (KrlFinding& f : check_krl_file(dat, declared, options))
           out.push_back(std::move(f));
+        dat_names[normal(dat)] = declared;
+      } else {
+        declared = known->second;
+      }
     }
-    for (KrlFinding& f : check_krl_text(src, src_text, dat_names, options))
+    for (KrlFinding& f : check_krl_file(src, declared, options))
       out.push_back(std::move(f));
   }
 

@@ -26,11 +26,8 @@ bool is_cp(const std::string& kw) {
   return kw == "LIN" || kw == "CIRC" || kw == "SLIN" || kw == "SCIRC" || kw == "SPL";
 }
 
-struct Pose {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  bool has_orientation = false;
-};
+using Pose = detail::KrlTcpPose;
+using Joint = detail::KrlSplineJoint;
 
 Pose pose_of(const KrlAggregate& t, const Pose& before) {
   Pose out;
@@ -45,14 +42,15 @@ Pose pose_of(const KrlAggregate& t, const Pose& before) {
   return out;
 }
 
-// Motion i joins motion i - 1 smoothly: both in one SPLINE block, and one of them an SPL (an
-// SLIN next to an SPL gives their shared point its direction).
-bool joins_smoothly(const std::vector<KrlMotionRecord>& motions, std::size_t i) {
-  if (i == 0 || i >= motions.size())
-    return false;
-  const KrlMotionRecord &a = motions[i - 1], &b = motions[i];
-  return b.spline_block > 0 && a.spline_block == b.spline_block &&
-         (krl::upper(a.keyword) == "SPL" || krl::upper(b.keyword) == "SPL");
+// Of a motion, what says whether its neighbours join it smoothly: its SPLINE block, and SPL.
+Joint joint_of(const KrlMotionRecord& m) {
+  return {m.spline_block, krl::upper(m.keyword) == "SPL"};
+}
+
+// b joins a smoothly: both in one SPLINE block, and one of them an SPL (an SLIN next to an SPL
+// gives their shared point its direction).
+bool joins_smoothly(const Joint& a, const Joint& b) {
+  return b.spline_block > 0 && a.spline_block == b.spline_block && (a.spl || b.spl);
 }
 
 }  // namespace
@@ -71,84 +69,109 @@ double krl_cycle_velocity(double length_mm, double vel_m_per_s, double cycle_s,
   return std::max(std::floor(rate_mm_s / 1000.0 * scale) / scale, 1.0 / scale);
 }
 
-KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options) {
-  KrlMotionRate out;
-  const double cycle = options.interpolation_cycle_s;
-  const double ori_rad_s = options.orientation_velocity_deg_s * M_PI / 180.0;
-  Pose last;
-  bool have_last = false;
-  KrlShortStretch open;
-  auto close = [&] {
-    if (open.motions > 0)
-      out.stretches.push_back(open);
-    open = KrlShortStretch{};
-  };
-  for (std::size_t i = 0; i < program.motions.size(); ++i) {
-    const KrlMotionRecord& m = program.motions[i];
-    const std::string kw = krl::upper(m.keyword);
-    if (m.relative || !cartesian(m.target)) {
-      // An axis-only target (a PTP to an E6AXIS): where the TCP is next is not known here.
-      if (is_cp(kw) && !m.relative)
-        ++out.unmeasured;
-      have_last = false;
-      close();
-      continue;
-    }
-    const Pose now = pose_of(m.target, last);
-    if (!is_cp(kw) || !have_last || !(m.vel_cp_m_per_s > 0.0)) {
-      if (is_cp(kw))
-        ++out.unmeasured;
-      last = now;
-      have_last = true;
-      if (!is_cp(kw))
-        close();
-      continue;
-    }
-    double length = (now.p - last.p).norm();
-    Circle arc;
-    if ((kw == "CIRC" || kw == "SCIRC") && m.aux && cartesian(*m.aux) &&
-        circle_through(last.p, point_of(*m.aux), now.p, arc))
-      length = arc.length();
-    double turn = 0.0;
-    if (last.has_orientation && now.has_orientation) {
-      const double c = std::clamp(0.5 * ((last.R.transpose() * now.R).trace() - 1.0), -1.0, 1.0);
-      turn = std::acos(c);
-    }
-    const double seconds = std::max(length / (1000.0 * m.vel_cp_m_per_s), turn / ori_rad_s);
-    last = now;
-    if (!(seconds > 0.0))
-      continue;  // nothing moves: not a motion the controller times
-    ++out.cp_motions;
-    // A segment joined smoothly to its neighbour is part of a path the controller plans whole
-    // (docs/timing.md, "SPLINE blocks"): no cycle of its own.
-    if (joins_smoothly(program.motions, i) || joins_smoothly(program.motions, i + 1)) {
-      ++out.spline_joined;
-      close();
-      continue;
-    }
-    if (out.shortest_line == 0 || seconds < out.shortest_s) {
-      out.shortest_s = seconds;
-      out.shortest_file = m.file;
-      out.shortest_line = m.line;
-    }
-    if (seconds < cycle * kKrlBelowCycle) {
-      ++out.below_cycle;
-      if (open.motions > 0 && open.file != m.file)
-        close();
-      if (open.motions == 0) {
-        open.file = m.file;
-        open.first_line = m.line;
-        open.shortest_s = seconds;
-      }
-      open.last_line = m.line;
-      ++open.motions;
-      open.shortest_s = std::min(open.shortest_s, seconds);
-    } else {
-      close();
-    }
+KrlMotionRateCounter::KrlMotionRateCounter(const KrlMotionRateOptions& options)
+    : options_(options) {}
+
+void KrlMotionRateCounter::add(const KrlMotionRecord& m) {
+  if (pending_)
+    count(*pending_, &m);
+  pending_ = m;
+}
+
+KrlMotionRate KrlMotionRateCounter::finish() {
+  if (pending_)
+    count(*pending_, nullptr);
+  pending_.reset();
+  close_stretch();
+  return std::move(out_);
+}
+
+void KrlMotionRateCounter::close_stretch() {
+  if (open_.motions > 0) {
+    ++out_.stretch_count;
+    if (out_.stretches.size() < kKrlMaxShortStretches)
+      out_.stretches.push_back(open_);
   }
-  close();
-  return out;
+  open_ = KrlShortStretch{};
+}
+
+void KrlMotionRateCounter::count(const KrlMotionRecord& m, const KrlMotionRecord* next) {
+  // Whether this motion joins the one before it, and the next one it (known now).
+  const bool joined_before = have_before_ && joins_smoothly(before_, joint_of(m));
+  const bool joined_after = next && joins_smoothly(joint_of(m), joint_of(*next));
+  before_ = joint_of(m);
+  have_before_ = true;
+
+  const double cycle = options_.interpolation_cycle_s;
+  const double ori_rad_s = options_.orientation_velocity_deg_s * M_PI / 180.0;
+  const std::string kw = krl::upper(m.keyword);
+  if (m.relative || !cartesian(m.target)) {
+    // An axis-only target (a PTP to an E6AXIS): where the TCP is next is not known here.
+    if (is_cp(kw) && !m.relative)
+      ++out_.unmeasured;
+    have_last_ = false;
+    close_stretch();
+    return;
+  }
+  const Pose now = pose_of(m.target, last_);
+  if (!is_cp(kw) || !have_last_ || !(m.vel_cp_m_per_s > 0.0)) {
+    if (is_cp(kw))
+      ++out_.unmeasured;
+    last_ = now;
+    have_last_ = true;
+    if (!is_cp(kw))
+      close_stretch();
+    return;
+  }
+  double length = (now.p - last_.p).norm();
+  Circle arc;
+  if ((kw == "CIRC" || kw == "SCIRC") && m.aux && cartesian(*m.aux) &&
+      circle_through(last_.p, point_of(*m.aux), now.p, arc))
+    length = arc.length();
+  double turn = 0.0;
+  if (last_.has_orientation && now.has_orientation) {
+    const double c = std::clamp(0.5 * ((last_.R.transpose() * now.R).trace() - 1.0), -1.0, 1.0);
+    turn = std::acos(c);
+  }
+  const double seconds = std::max(length / (1000.0 * m.vel_cp_m_per_s), turn / ori_rad_s);
+  last_ = now;
+  if (!(seconds > 0.0))
+    return;  // nothing moves: not a motion the controller times
+  ++out_.cp_motions;
+  // A segment joined smoothly to its neighbour is part of a path the controller plans whole
+  // (docs/timing.md, "SPLINE blocks"): no cycle of its own.
+  if (joined_before || joined_after) {
+    ++out_.spline_joined;
+    close_stretch();
+    return;
+  }
+  if (out_.shortest_line == 0 || seconds < out_.shortest_s) {
+    out_.shortest_s = seconds;
+    out_.shortest_file = m.file;
+    out_.shortest_line = m.line;
+  }
+  if (seconds < cycle * kKrlBelowCycle) {
+    ++out_.below_cycle;
+    if (open_.motions > 0 && open_.file != m.file)
+      close_stretch();
+    if (open_.motions == 0) {
+      open_.file = m.file;
+      open_.first_line = m.line;
+      open_.shortest_s = seconds;
+    }
+    open_.last_line = m.line;
+    ++open_.motions;
+    open_.shortest_s = std::min(open_.shortest_s, seconds);
+  } else {
+    close_stretch();
+  }
+}
+
+KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options) {
+  KrlMotionRateCounter counter(options);
+  for (const KrlMotionRecord& m : program.motions)
+    counter.add(m);
+  return counter.finish();
 }
 
 }  // namespace redpost

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -81,7 +82,17 @@ bool quiet_system_variable(const std::string& lhs) {
 
 class Reader {
  public:
-  explicit Reader(KrlProgram& out) : out_(out) {}
+  // With `sink`, motions are handed over instead of kept, and modules are dropped when no
+  // call in progress needs them (read_krl_program with a sink, reader.hpp).
+  explicit Reader(KrlProgram& out, const KrlMotionSink* sink = nullptr) : out_(out), sink_(sink) {}
+
+  // The motion held back for an ENDSPLINE's approximation goes out at the end.
+  void finish() {
+    if (sink_ && held_) {
+      (*sink_)(*held_);
+      held_.reset();
+    }
+  }
 
   void run(const std::string& src_path) {
     const Module& m = module(src_path);
@@ -96,24 +107,32 @@ class Reader {
 
  private:
   KrlProgram& out_;
+  const KrlMotionSink* sink_;
+  std::optional<KrlMotionRecord> held_;  // with a sink: the last motion, until the next statement
+  long motions_ = 0;                     // motions read so far
+  std::set<std::string> files_seen_;
   std::map<std::string, std::unique_ptr<Module>> modules_;  // by canonical path
   std::vector<std::pair<const Module*, int>> stack_;        // DEFs being executed
   std::set<std::string> warned_;
   State state_;
-  int spline_start_ = -1;  // index in out_.motions where the open SPLINE block started
-  int spline_blocks_ = 0;  // SPLINE blocks opened so far
-  int spline_block_ = 0;   // the open one (0: none)
+  long spline_start_ = -1;  // motions read when the open SPLINE block started
+  int spline_blocks_ = 0;   // SPLINE blocks opened so far
+  int spline_block_ = 0;    // the open one (0: none)
 
-  const Module& module(const std::string& path) {
+  static std::string module_key(const std::string& path) {
     std::error_code ec;
     std::string key = fs::weakly_canonical(fs::path(path), ec).string();
-    if (ec)
-      key = path;
+    return ec ? path : key;
+  }
+
+  const Module& module(const std::string& path) {
+    const std::string key = module_key(path);
     auto it = modules_.find(key);
     if (it != modules_.end())
       return *it->second;
     auto m = std::make_unique<Module>(load_module(path));
-    out_.files.push_back(path);
+    if (files_seen_.insert(key).second)
+      out_.files.push_back(path);
     if (m->stray_line)
       warn_once("outside-def:" + path, path, m->stray_line, "statement outside DEF skipped");
     return *(modules_[key] = std::move(m));
@@ -167,15 +186,14 @@ class Reader {
     }
     std::string rest = trim(code.substr(w.size()));
     if (w == "SPLINE" || w == "PTP_SPLINE") {
-      spline_start_ = static_cast<int>(out_.motions.size());
+      spline_start_ = motions_;
       spline_block_ = ++spline_blocks_;
       return;
     }
     if (w == "ENDSPLINE" || w == "ENDPTP_SPLINE") {
       std::string a = upper(leading_word(rest));
-      if (approximations().count(a) && spline_start_ >= 0 &&
-          static_cast<int>(out_.motions.size()) > spline_start_)
-        out_.motions.back().approximation = a;
+      if (approximations().count(a) && spline_start_ >= 0 && motions_ > spline_start_)
+        (sink_ ? *held_ : out_.motions.back()).approximation = a;
       spline_start_ = -1;
       spline_block_ = 0;
       return;
@@ -352,6 +370,11 @@ class Reader {
           k = j;
       pending_call_ = SourceLocation{file, line, 0};
       execute(sub, k);
+      // Streaming: a part is read once; its lines need not stay (a second call reads it again).
+      const bool in_use = std::any_of(stack_.begin(), stack_.end(),
+                                      [&](const auto& frame) { return frame.first == &sub; });
+      if (sink_ && !in_use)
+        modules_.erase(module_key(path));
       return;
     }
     // Not found. A program part (the caller's module name followed by "_P<digits>", as
@@ -455,7 +478,14 @@ class Reader {
         fail(m.src_path, line, "unexpected '" + w + "' after the " + kw + " target");
       }
     }
-    out_.motions.push_back(std::move(r));
+    ++motions_;
+    if (!sink_) {
+      out_.motions.push_back(std::move(r));
+      return;
+    }
+    if (held_)
+      (*sink_)(*held_);
+    held_ = std::move(r);
   }
 };
 
@@ -465,6 +495,14 @@ KrlProgram read_krl_program(const std::string& src_path) {
   KrlProgram program;
   Reader reader(program);
   reader.run(src_path);
+  return program;
+}
+
+KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion) {
+  KrlProgram program;
+  Reader reader(program, &motion);
+  reader.run(src_path);
+  reader.finish();
   return program;
 }
 

@@ -39,31 +39,57 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
-// Reads a .src or .dat a line at a time: a line longer than any KRL line is refused as soon as it
-// is seen (memory stays bounded on a file that is no program), and the whole file at
-// kMaxKrlFileBytes. The bytes are kept as they are (CRLF, LF or CR line ends).
+// The whole file, its bytes as they are (CRLF, LF or CR line ends), with the limits of
+// for_each_krl_line: a line longer than any KRL line is refused as soon as it is seen (memory
+// stays bounded on a file that is no program), and the whole file at kMaxKrlFileBytes.
 std::string read_krl_text(const std::string& path) {
-  std::ifstream in = open_text_stream(path);
   std::string text;
+  for_each_krl_line(path, [&](int, const std::string& line, std::string_view ending) {
+    text += line;
+    text += ending;
+    return true;
+  });
+  return text;
+}
+
+std::size_t for_each_krl_line(const std::string& path, const KrlLineVisitor& visit) {
+  std::ifstream in = open_text_stream(path);
   std::streambuf* buf = in.rdbuf();
+  std::string line_text;
   int line = 1;
-  std::size_t line_start = 0;
-  for (int c = buf->sbumpc(); c != std::char_traits<char>::eof(); c = buf->sbumpc()) {
-    text += static_cast<char>(c);
+  std::size_t bytes = 0;
+  for (int c = buf->sbumpc();; c = buf->sbumpc()) {
+    if (c == std::char_traits<char>::eof()) {
+      if (!line_text.empty())
+        visit(line, line_text, "");
+      break;
+    }
+    ++bytes;
     if (c == '\r' || c == '\n') {
-      if (c == '\r' && buf->sgetc() == '\n')
-        text += static_cast<char>(buf->sbumpc());
+      std::string_view ending = "\n";
+      if (c == '\r') {
+        if (buf->sgetc() == '\n') {
+          buf->sbumpc();
+          ++bytes;
+          ending = "\r\n";
+        } else {
+          ending = "\r";
+        }
+      }
+      if (!visit(line, line_text, ending))
+        return bytes;
+      line_text.clear();
       ++line;
-      line_start = text.size();
       continue;
     }
-    if (text.size() - line_start > kMaxKrlLineBytes) {
+    line_text += static_cast<char>(c);
+    if (line_text.size() > kMaxKrlLineBytes) {
       throw Error(ErrorCode::bad_input,
                   "a line longer than " + std::to_string(kMaxKrlLineBytes) +
                       " bytes: no KRL program has one (is it the right file?)",
                   SourceLocation{path, line, 0});
     }
-    if (text.size() > kMaxKrlFileBytes) {
+    if (bytes > kMaxKrlFileBytes) {
       throw Error(ErrorCode::io,
                   "file has more than " + std::to_string(kMaxKrlFileBytes) +
                       " bytes, far beyond any controller's program: is it the right file?",
@@ -74,7 +100,7 @@ std::string read_krl_text(const std::string& path) {
     throw Error(ErrorCode::io, "read error: is it a readable regular file?",
                 SourceLocation{path, line, 0});
   }
-  return text;
+  return bytes;
 }
 
 // Splits a line into code and comment at the first ';' outside a "..." string.

@@ -6,9 +6,11 @@
 #include <cctype>
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "krl/text.hpp"
@@ -18,10 +20,17 @@ namespace redpost::krl {
 
 // --- lines -------------------------------------------------------------------------------------
 
-// The whole of a .src or .dat as it is; Error(bad_input) at a line longer than kMaxKrlLineBytes,
-// Error(io) beyond kMaxKrlFileBytes.
+// The whole of a .src or .dat as it is, with the limits of for_each_krl_line.
 inline constexpr std::size_t kMaxKrlLineBytes = 64 * 1024;
 std::string read_krl_text(const std::string& path);
+
+// Reads a .src or .dat a line at a time: `visit` gets each line without its ending, and the
+// ending as it is ("\n", "\r\n", "\r" alone, "" at the end of the file); it returns false to
+// stop. A line longer than kMaxKrlLineBytes is refused at once (Error(bad_input) with its line),
+// the file beyond kMaxKrlFileBytes (Error(io)). Returns the bytes read. Memory: one line.
+using KrlLineVisitor =
+    std::function<bool(int line, const std::string& text, std::string_view ending)>;
+std::size_t for_each_krl_line(const std::string& path, const KrlLineVisitor& visit);
 
 // Splits on LF, CRLF or CR.
 std::vector<std::string> split_lines(const std::string& text);

@@ -18,6 +18,7 @@
 #include "krl/format.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
+#include "redpost/krl/check.hpp"
 
 namespace redpost {
 
@@ -281,6 +282,12 @@ class Reader : public detail::StrictXml {
       first = false;
       line = t->GetLineNum();
       out = t->Value() ? t->Value() : "";
+      // tinyxml2 numbers plain text by its first non-blank character (CDATA by its marker):
+      // count back to the line the text starts on, as the offsets into it count.
+      if (!t->CData()) {
+        const size_t text_start = std::min(out.find_first_not_of(" \t\r\n"), out.size());
+        line -= static_cast<int>(std::count(out.begin(), out.begin() + text_start, '\n'));
+      }
     }
     return out;
   }
@@ -406,7 +413,8 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
 
 // <statement name="...">: a known statement, once, with the placeholders it may use.
 void read_statement(const Reader& r, const XMLElement* e, KrlTemplateSet& set,
-                    std::map<std::string, int>& statement_line) {
+                    std::map<std::string, int>& statement_line,
+                    std::map<std::string, int>& text_line) {
   r.only_attributes(e, {"name"});
   const std::string name = r.required(e, "name");
   const krl::StatementSpec* spec = krl::find_statement(name);
@@ -423,6 +431,99 @@ void read_statement(const Reader& r, const XMLElement* e, KrlTemplateSet& set,
   const std::string raw = r.text_of(e, line);
   check_placeholders(r, raw, line, spec->allowed, "<statement name=\"" + name + "\">");
   set.statements[name] = clean_statement(raw, line);
+  text_line[name] = line;
+}
+
+// A value for each placeholder, as the writer would put one there, to read a template's fixed
+// text as `redpost check` reads the program (check_fixed_text).
+std::string_view sample_value(krl::Ph p) {
+  using krl::Ph;
+  switch (p) {
+    case Ph::name:
+    case Ph::program:
+      return "REDPOST_PROGRAM";
+    case Ph::callee:
+      return "REDPOST_PROGRAM_P001";
+    case Ph::base:
+      return "BASE_DATA[1]";
+    case Ph::tool:
+      return "TOOL_DATA[1]";
+    case Ph::routine:
+      return "TOOL_CHANGE";
+    case Ph::header_comment:
+      return "text";
+    case Ph::tool_name:
+      return "T1";
+    case Ph::direction:
+      return "CW";
+    case Ph::clockwise:
+      return "TRUE";
+    case Ph::mode:
+      return "FLOOD";
+    case Ph::date:
+      return "2026-12-05 00:00:00 UTC";
+    case Ph::body:
+    case Ph::decls:
+    case Ph::frames:
+      return "";
+    case Ph::ext:
+      return ", E1 0.0";
+    case Ph::s_bits:
+      return "010";
+    case Ph::t_bits:
+      return "000011";
+    case Ph::vel:
+      return "0.1";
+    default:
+      return "1";  // numbers: coordinates, axes, counts, speeds, indices
+  }
+}
+
+// `text` with its placeholders replaced by sample values; {text} by `text_sample` (a literal's
+// is a statement, a comment's words).
+std::string with_samples(std::string_view text, std::string_view text_sample = "text") {
+  std::string out;
+  size_t done = 0;
+  for (const krl::PlaceholderUse& u : krl::scan_placeholders(text)) {
+    out.append(text.substr(done, u.offset - done));
+    out.append(u.ph == krl::Ph::text ? text_sample : sample_value(u.ph));
+    done = u.offset + u.name.size() + 2;
+  }
+  out.append(text.substr(done));
+  return out;
+}
+
+// The fixed text of every skeleton and statement, with a sample value for each placeholder,
+// must pass the text checks of `redpost check` (identifiers of at most 24 characters, statements
+// it reads, DEF/END and FOLD pairs, declarations first): a program the set writes must not be
+// one check rejects. Refused at the template's line. (The literal statement's {text} is the
+// host's statement, checked when it is given: HALT here; ext_axis is a fragment of an
+// aggregate.)
+void check_fixed_text(const Reader& r, const KrlTemplateSet& set,
+                      const std::map<std::string, int>& skeleton_line,
+                      const std::map<std::string, int>& statement_line) {
+  const std::pair<const char*, const std::string*> skeletons[] = {{"src", &set.src_file},
+                                                                  {"dat", &set.dat_file},
+                                                                  {"main_src", &set.main_src_file},
+                                                                  {"main_dat", &set.main_dat_file}};
+  for (const auto& [kind, text] : skeletons) {
+    const std::vector<KrlFinding> found =
+        check_krl_text(set.source_file, with_samples(*text), {}, KrlCheckOptions{});
+    if (!found.empty())
+      r.fail(skeleton_line.at(kind) + found.front().line - 1,
+             "<file kind=\"" + std::string(kind) + "\">: " + found.front().message +
+                 " (redpost check would reject every program of this set)");
+  }
+  for (const auto& [name, text] : set.statements) {
+    if (name == "ext_axis" || text.empty())
+      continue;
+    const std::string shown = with_samples(text, name == "literal" ? "HALT" : "text");
+    const KrlFinding f = check_krl_statements(shown);
+    if (f.line > 0)
+      r.fail(statement_line.at(name) + f.line - 1,
+             "<statement name=\"" + name + "\">: " + f.message +
+                 " (redpost check would reject the programs that use it)");
+  }
 }
 
 // Every statement the set needs is there, and none it would never use.
@@ -523,7 +624,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
   const XMLElement* limits = nullptr;
   const XMLElement* timing = nullptr;
   std::set<std::string> files_seen;
-  std::map<std::string, int> statement_line;
+  std::map<std::string, int> statement_line, statement_text_line, skeleton_line;
 
   for (const XMLElement* e = root->FirstChildElement(); e; e = e->NextSiblingElement()) {
     const std::string n = e->Name();
@@ -572,6 +673,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       check_placeholders(r, raw, line, spec->allowed, "<file kind=\"" + kind + "\">");
       std::string text = clean_skeleton(raw, line);
       check_block_placeholders(r, text, line, *spec);
+      skeleton_line[kind] = line;
       switch (spec->id) {
         case krl::SkeletonKind::src:
           set.src_file = std::move(text);
@@ -587,7 +689,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
           break;
       }
     } else if (n == "statement") {
-      read_statement(r, e, set, statement_line);
+      read_statement(r, e, set, statement_line, statement_text_line);
     } else {
       r.fail(e, "unknown element <" + n +
                     "> in <krl-templates> (known: description, numbers, spline, limits, timing, "
@@ -602,6 +704,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       r.fail(root, "<krl-templates> needs a <file kind=\"" + std::string(s.kind) + "\">");
   }
   check_statements(r, root, set, statement_line);
+  check_fixed_text(r, set, skeleton_line, statement_text_line);
   // The look-ahead the time model plans with is the one the program sets.
   const int set_advance = skeleton_advance(set.src_file);
   if (set_advance >= 0) {

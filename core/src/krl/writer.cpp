@@ -81,6 +81,18 @@ void check_program_info(const KrlProgramInfo& info) {
         })) {
       throw Error(ErrorCode::bad_input, "$BASE and $TOOL need a one-line, non-empty value");
     }
+    // Written into every program: it must be a value `redpost check` accepts (an identifier
+    // of at most 24 characters, BASE_DATA[1], an aggregate, a function call).
+    const char* what = s == &info.base ? "$BASE" : "$TOOL";
+    const KrlFinding f = check_krl_statements(fmt::format("{} = {}", what, *s));
+    if (f.line > 0) {
+      const std::string shown = s->size() > 40 ? s->substr(0, 40) + "..." : *s;
+      throw Error(
+          ErrorCode::bad_input,
+          fmt::format("{} = {}: not a value a controller takes ({}); give a KRL "
+                      "name such as {}",
+                      what, shown, f.message, s == &info.base ? "BASE_DATA[1]" : "TOOL_DATA[1]"));
+    }
   }
 }
 

@@ -388,6 +388,13 @@ void PostSession::spindle(double rpm, SpindleDirection direction, int cl_line) {
     throw Error(ErrorCode::bad_input, fmt::format("spindle speed {} rpm is not valid", rpm),
                 SourceLocation{impl_->o.source_name, cl_line, 0});
   }
+  if (rpm > kMaxSpindleRpm) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("spindle speed {} rpm is beyond {:g} rpm: is it a surface speed or "
+                            "in other units? Give the spindle's rpm",
+                            rpm, kMaxSpindleRpm),
+                SourceLocation{impl_->o.source_name, cl_line, 0});
+  }
   ClEvent e;
   e.kind = ClEventKind::spindle;
   e.line = cl_line;

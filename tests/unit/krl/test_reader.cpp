@@ -18,6 +18,8 @@
 namespace fs = std::filesystem;
 using redpost::Error;
 using redpost::ErrorCode;
+using redpost::KrlAggregate;
+using redpost::KrlMotionRecord;
 using redpost::KrlProgram;
 using redpost::read_krl_program;
 using redpost::test::source_path;
@@ -120,6 +122,63 @@ TEST_CASE("krl_reader: every golden program is read with all its motions", "[krl
       }
     }
     CHECK(p.warnings.empty());
+  }
+}
+
+namespace {
+
+// Every field a motion record carries, for comparing two reads of one program.
+bool same_record(const KrlMotionRecord& a, const KrlMotionRecord& b) {
+  const auto same_aggregate = [](const KrlAggregate& x, const KrlAggregate& y) {
+    return x.type == y.type && x.values == y.values && x.status == y.status && x.turn == y.turn;
+  };
+  return a.keyword == b.keyword && same_aggregate(a.target, b.target) &&
+         a.aux.has_value() == b.aux.has_value() && (!a.aux || same_aggregate(*a.aux, *b.aux)) &&
+         a.approximation == b.approximation && a.relative == b.relative && a.file == b.file &&
+         a.line == b.line && a.cl_line == b.cl_line && a.vel_cp_m_per_s == b.vel_cp_m_per_s &&
+         a.spline_block == b.spline_block && a.apo_cdis_mm == b.apo_cdis_mm &&
+         a.ptp_velocity_percent == b.ptp_velocity_percent && a.base == b.base && a.tool == b.tool;
+}
+
+}  // namespace
+
+TEST_CASE("krl_reader: streamed, every program gives the same motions and keeps none",
+          "[krl_reader]") {
+  // The goldens (split programs among them) and a spline program whose ENDSPLINE C_SPL belongs
+  // to the block's last motion, which the stream holds back until the next statement.
+  std::vector<std::string> mains;
+  for (const char* name : kGolden)
+    mains.push_back(
+        (fs::path(source_path(std::string("tests/golden/") + name)) / (upper(name) + ".src"))
+            .string());
+  TempDir t;
+  mains.push_back(t.write("spl.src",
+                          "DEF SPL( )\n"
+                          "PTP {A1 0, A2 -90, A3 90, A4 0, A5 0, A6 0}\n"
+                          "$VEL.CP = 0.1\n"
+                          "SPLINE\n"
+                          "SLIN {X 140.0, Y 0.0, Z 60.0}\n"
+                          "SPL {X 150.0, Y 0.0, Z 60.0}\n"
+                          "ENDSPLINE C_SPL\n"
+                          "SPLINE\n"
+                          "SPL {X 160.0, Y 0.0, Z 60.0} WITH $VEL.CP = 0.05\n"
+                          "ENDSPLINE\n"
+                          "LIN {X 170.0, Y 0.0, Z 60.0}\n"
+                          "END\n"));
+  for (const std::string& main : mains) {
+    INFO(main);
+    const KrlProgram whole = read_krl_program(main);
+    std::vector<KrlMotionRecord> streamed;
+    const KrlProgram p =
+        read_krl_program(main, [&](const KrlMotionRecord& m) { streamed.push_back(m); });
+    CHECK(p.motions.empty());
+    CHECK(p.files == whole.files);
+    CHECK(p.warnings == whole.warnings);
+    REQUIRE(streamed.size() == whole.motions.size());
+    for (std::size_t i = 0; i < streamed.size(); ++i) {
+      INFO("motion " << i + 1);
+      CHECK(same_record(streamed[i], whole.motions[i]));
+    }
   }
 }
 

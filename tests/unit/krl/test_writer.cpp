@@ -331,6 +331,27 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
         std::regex_replace(spline, std::regex("  <statement name=\"spline_spl\">[^\n]*\n"), "");
     expect_error(no_spl, line_of(no_spl, "name=\"spline_lin_vel\""), "only with spline_spl");
   }
+  SECTION("fixed text that redpost check would reject (issue 31)") {
+    // A 25-character name in the skeleton: refused at its line, as check reports it.
+    const std::string long_name =
+        replaced(good, "$ADVANCE = 3", "$ADVANCE = 3\nABCDEFGHIJKLMNOPQRSTUVWXY = 1");
+    expect_error(long_name, line_of(long_name, "ABCDEFGHIJKLMNOPQRSTUVWXY"),
+                 "has 25 characters, more than 24");
+    // One of 24 is a KRL name: accepted.
+    REQUIRE_NOTHROW(parse_krl_templates(
+        replaced(good, "$ADVANCE = 3", "$ADVANCE = 3\nABCDEFGHIJKLMNOPQRSTUVWX = 1"), "ok.xml"));
+    // A statement that is not KRL, on the second line of a statement.
+    const std::string not_krl =
+        replaced(good, "HALT ; mount tool T{number} by hand", "MOUNT THE TOOL ; T{number} by hand");
+    expect_error(not_krl, line_of(not_krl, "MOUNT THE TOOL"),
+                 "<statement name=\"tool_change_manual\">: not a KRL statement");
+    // A declaration after the skeleton's first statement.
+    const std::string late_decl = replaced(good, "$ADVANCE = 3", "$ADVANCE = 3\nDECL INT COUNT");
+    expect_error(late_decl, line_of(late_decl, "DECL INT COUNT"), "declaration after");
+    // A FOLD left open in the dat skeleton.
+    const std::string open_fold = replaced(good, "DEFDAT {name}\n", "DEFDAT {name}\n;FOLD DATA\n");
+    expect_error(open_fold, line_of(open_fold, ";FOLD DATA"), "FOLD without a matching ENDFOLD");
+  }
   SECTION("a statement missing") {
     const std::string bad =
         replaced(good, "<statement name=\"vel\">$VEL.CP = {vel}</statement>", "");
@@ -939,6 +960,26 @@ TEST_CASE("krl_writer: what cannot be written is refused") {
   SECTION("a literal of two lines") {
     KrlWriter w(set, info_for(dir, "LITERAL"));
     CHECK_THROWS_AS(w.literal("WAIT SEC 1\nHALT"), Error);
+  }
+  SECTION("a $BASE or $TOOL that redpost check would reject (issue 31)") {
+    for (const bool base : {true, false}) {
+      for (const std::string bad :
+           {std::string(10000, 'B'), std::string("BASE@1"), std::string("BASE_DATA[1")}) {
+        KrlProgramInfo info = info_for(dir, "BAD_FRAME");
+        (base ? info.base : info.tool) = bad;
+        try {
+          KrlWriter w(set, info);
+          FAIL("accepted");
+        } catch (const Error& e) {
+          CHECK(e.code() == ErrorCode::bad_input);
+          CHECK(e.message().find(base ? "$BASE = " : "$TOOL = ") == 0);
+        }
+      }
+    }
+    KrlProgramInfo info = info_for(dir, "GOOD_FRAME");
+    info.base = "{FRAME: X 0, Y 0, Z 10, A 0, B 0, C 0}";
+    info.tool = "TOOL_DATA[3]";
+    CHECK_NOTHROW(KrlWriter(set, info));
   }
 }
 

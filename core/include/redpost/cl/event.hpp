@@ -68,6 +68,10 @@ enum class MoveOrigin { goto_point, from_point, arc, nurbs, cycle, delta, fitted
 // revolutions), and the spindle would run for minutes at the hole's bottom.
 inline constexpr double kMaxDwellSeconds = 600.0;
 
+// The fastest spindle accepted (rpm): milling spindles run to about 60 000 rpm; a larger value
+// is a typo (a surface speed, or a unit slip), and it is written into the program.
+inline constexpr double kMaxSpindleRpm = 100000.0;
+
 // What operator text is (ClEventKind::operator_text).
 enum class TextKind { insert, pprint, message };
 

@@ -56,6 +56,11 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
                                        const std::vector<std::string>& dat_declared,
                                        const KrlCheckOptions& options);
 
+// What the text checks find in `lines` (one statement or more, '\n'-separated) standing in a
+// DEF: the first finding, its line counted within `lines` (1-based); line 0 and "" when none.
+// For the text a template set or a host puts into every program (template.hpp, writer.hpp).
+KrlFinding check_krl_statements(const std::string& lines);
+
 // Names declared (DECL ... NAME, NAME2 = ...) in a .src or .dat text, upper case.
 std::vector<std::string> krl_declared_names(const std::string& text);
 

@@ -9,8 +9,11 @@
 // neighbour in the block) are one path to the controller and are not counted.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "redpost/krl/reader.hpp"
 
@@ -51,9 +54,48 @@ struct KrlMotionRate {
   double shortest_s = 0.0;  // the shortest measured (0: none)
   std::string shortest_file;
   int shortest_line = 0;
-  std::vector<KrlShortStretch> stretches;  // in program order
+  long stretch_count = 0;                  // stretches of short motions, all of them
+  std::vector<KrlShortStretch> stretches;  // the first kKrlMaxShortStretches, in program order
 };
 
+// Stretches a KrlMotionRate keeps (the rest are counted): memory stays flat whatever the
+// program's length.
+inline constexpr std::size_t kKrlMaxShortStretches = 1000;
+
 KrlMotionRate krl_motion_rate(const KrlProgram& program, const KrlMotionRateOptions& options);
+
+namespace detail {
+struct KrlTcpPose {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  bool has_orientation = false;
+};
+struct KrlSplineJoint {
+  int spline_block = 0;  // the SPLINE block of a motion (0: none)
+  bool spl = false;      // an SPL segment
+};
+}  // namespace detail
+
+// The same count, a motion at a time (a program read with a KrlMotionSink): it holds one
+// motion back, until the next one says whether the two are joined smoothly.
+class KrlMotionRateCounter {
+ public:
+  explicit KrlMotionRateCounter(const KrlMotionRateOptions& options);
+  void add(const KrlMotionRecord& m);  // in execution order
+  KrlMotionRate finish();
+
+ private:
+  void count(const KrlMotionRecord& m, const KrlMotionRecord* next);
+  void close_stretch();
+
+  KrlMotionRateOptions options_;
+  KrlMotionRate out_;
+  std::optional<KrlMotionRecord> pending_;
+  detail::KrlSplineJoint before_;  // of the motion before the pending one
+  bool have_before_ = false;
+  detail::KrlTcpPose last_;  // the TCP where the last measured motion ended
+  bool have_last_ = false;
+  KrlShortStretch open_;
+};
 
 }  // namespace redpost

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -57,5 +58,12 @@ struct KrlProgram {
 // Reads the program in `src_path` (and its .dat, and the .src/.dat of the subprograms it calls
 // that are found in the same directory). Throws Error(bad_input / io) with file:line.
 KrlProgram read_krl_program(const std::string& src_path);
+
+// The same, streamed: each motion goes to `motion` once the statement after it is read (an
+// ENDSPLINE's approximation belongs to its last motion), and none is kept (`motions` stays
+// empty). A part is dropped once its call returns, so memory is bounded by the largest file
+// and the calls in progress, not by the program's length (`redpost check`, docs/krl-diff.md).
+using KrlMotionSink = std::function<void(const KrlMotionRecord&)>;
+KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion);
 
 }  // namespace redpost
