@@ -42,13 +42,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "cli"))
 from fit_check import circle_points, unit  # noqa: E402
 from speed_check import NUM, aggregate, program_lines, rotation  # noqa: E402
 
-MOTION = re.compile(r"^(LIN|SLIN|SPL|CIRC|PTP)\s*(\{[^}]*\})(?:\s*,\s*(\{[^}]*\}))?(.*)$")
+MOTION = re.compile(r"^(LIN|CIRC|PTP)\s*(\{[^}]*\})(?:\s*,\s*(\{[^}]*\}))?(.*)$")
 SMOOTH_TURN_RAD = math.radians(30.0)
 
 
 class Segment:
-    def __init__(self, start, end, points, speed_cap, cutting):
-        self.start, self.end = start, end
+    def __init__(self, points, speed_cap, cutting):
         self.length = sum(math.dist(points[k], points[k + 1]) for k in range(len(points) - 1))
         self.entry_dir = unit([points[1][i] - points[0][i] for i in range(3)])
         self.exit_dir = unit([points[-1][i] - points[-2][i] for i in range(3)])
@@ -68,8 +67,9 @@ def profile_time(length, u, w, cap, acc):
     return (peak - u) / acc + (peak - w) / acc + max(0.0, length - ramps) / peak
 
 
-def stretches(lines, feed_mm_s, acc, ori_rad_s, cdis):
-    """Lists of Segments between stops."""
+def stretches(lines, feed_mm_s, acc, ori_rad_s):
+    """Lists of Segments between stops. The program is krc4_circ's (LIN, CIRC, PTP): a spline
+    block's segments are refused rather than read as stops."""
     out, current, pose, vel = [], [], None, None
     def stop():
         nonlocal current
@@ -82,7 +82,9 @@ def stretches(lines, feed_mm_s, acc, ori_rad_s, cdis):
         if m:
             vel = float(m.group(1)) * 1000.0
             continue
-        if re.match(r"^(WAIT|HALT|END\b|ENDSPLINE\s*$)", code):
+        if re.match(r"^(SPLINE|SLIN|SPL|SCIRC)\b", code):
+            sys.exit("time_floor: a SPLINE block; convert the reference with --krl krc4_circ")
+        if re.match(r"^(WAIT|HALT|END\b)", code):
             stop()
             continue
         m = MOTION.match(code)
@@ -95,8 +97,7 @@ def stretches(lines, feed_mm_s, acc, ori_rad_s, cdis):
             pose = known if all(k in known for k in "XYZABC") else None
             continue
         end = aggregate(second if kind == "CIRC" else first)
-        w = re.search(r"WITH\s+\$VEL\.CP\s*=\s*(%s)" % NUM, rest)
-        speed = float(w.group(1)) * 1000.0 if w else vel
+        speed = vel
         if pose is None or speed is None:
             pose = end
             continue
@@ -110,7 +111,7 @@ def stretches(lines, feed_mm_s, acc, ori_rad_s, cdis):
         cutting = speed <= feed_mm_s + 1e-3  # the printed decimals of $VEL.CP
         cap = feed_mm_s if cutting else speed
         if math.dist(a, b) > 0 or len(points) > 2:
-            seg = Segment(pose, end, points, cap, cutting)
+            seg = Segment(points, cap, cutting)
             swivel = math.acos(max(-1.0, min(1.0, sum(
                 p * q for p, q in zip(tool_axis(pose), tool_axis(end))))))
             if swivel > 1e-9:
@@ -123,7 +124,7 @@ def stretches(lines, feed_mm_s, acc, ori_rad_s, cdis):
                 if turn > 0:
                     seg.cap = min(seg.cap, math.sqrt(acc * chord / turn))
             current.append(seg)
-        if re.search(r"\bC_(DIS|VEL|ORI|SPL)\b", rest) is None and kind != "SPL":
+        if re.search(r"\bC_(DIS|VEL|ORI)\b", rest) is None:
             stop()
         pose = end
     stop()
@@ -185,7 +186,7 @@ def main(argv):
         cdis = float(m.group(1)) if m else 0.0
     feed_mm_s = feed / 60.0
     at_feed = floor = 0.0
-    for stretch in stretches(lines, feed_mm_s, acc, ori, cdis):
+    for stretch in stretches(lines, feed_mm_s, acc, ori):
         floor += floor_time(stretch, acc, cdis)
         at_feed += sum(s.length / feed_mm_s for s in stretch if s.cutting)
     ratio = floor / at_feed if at_feed else 0.0
