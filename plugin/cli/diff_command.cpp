@@ -58,6 +58,12 @@ Runner add_diff_command(CLI::App& app) {
                 "Compare Cartesian positions and orientations as curves (within --path-tol and "
                 "--ang-tol), not point by point: the same path with other points is equal");
   cmd->add_option("--max-shown", opt->diff.max_shown, "Differences listed")->capture_default_str();
+  cmd->add_option("--window", opt->diff.window,
+                  "Motions of each program held at once: how far the alignment looks ahead, and "
+                  "the stretch of the other program's path each point is measured against "
+                  "(memory about 0.6 KB a motion)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{16}, std::size_t{100000000}));
   cmd->add_flag("--json", opt->json, "Machine-readable report");
   return [opt] { return run_diff(*opt); };
 }

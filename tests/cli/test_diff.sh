@@ -102,6 +102,28 @@ expect_rc 2
 expect_err "broken.src:"
 passed
 
+begin "diff: the alignment's window (--window)"
+# Without CL lines, 120 motions inserted in one place are aligned by position within the window:
+# a window of 100 motions holds too little and says so, one of 1000 finds them.
+mkdir -p "$TMP/nocl_a" "$TMP/nocl_b"
+sed '/; CL line/d' "$GOLDEN/pocket_arcs/POCKET_ARCS.src" >"$TMP/nocl_a/POCKET_ARCS.src"
+cp "$GOLDEN/pocket_arcs/POCKET_ARCS.dat" "$TMP/nocl_a/"
+awk '{ print } /LIN \{E6POS/ && ++n == 40 {
+       for (i = 0; i < 120; i++)
+         printf "LIN {E6POS: X %.3f, Y -300.000, Z 90.000, A 0.0000, B 0.0000, C 0.0000, E1 300.0000, E2 10.0000} C_DIS\r\n", i * 0.5 }' \
+  "$TMP/nocl_a/POCKET_ARCS.src" >"$TMP/nocl_b/POCKET_ARCS.src"
+cp "$GOLDEN/pocket_arcs/POCKET_ARCS.dat" "$TMP/nocl_b/"
+run diff "$TMP/nocl_a/POCKET_ARCS.src" "$TMP/nocl_b/POCKET_ARCS.src" --window 1000
+expect_rc 1
+expect_out "aligned by position), 0 changed, 120 inserted, 0 removed"
+run diff "$TMP/nocl_a/POCKET_ARCS.src" "$TMP/nocl_b/POCKET_ARCS.src" --window 100
+expect_rc 1
+expect_out "within the window of 100 motions, the first from"
+expect_out "A larger --window may align"
+run diff "$TMP/nocl_a/POCKET_ARCS.src" "$TMP/nocl_b/POCKET_ARCS.src" --window 8
+expect_rc 2
+passed
+
 # ---- check -----------------------------------------------------------------------------------
 begin "check: golden programs are clean"
 for d in pocket_arcs pocket_arcs_spline pocket_arcs_krc2 surface_5axis long_pass; do

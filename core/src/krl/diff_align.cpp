@@ -1,8 +1,10 @@
-// Myers' O(ND) difference in linear space (the bisection of diff-match-patch), with a work
-// budget (krl/diff_align.hpp).
+// Myers' O(ND) difference in linear space (the bisection of diff-match-patch), with patience
+// anchors in large regions and a work budget (krl/diff_align.hpp).
 #include "krl/diff_align.hpp"
 
+#include <algorithm>
 #include <cstddef>
+#include <unordered_map>
 
 namespace redpost::krl {
 
@@ -10,13 +12,10 @@ namespace {
 
 class Differ {
  public:
-  Differ(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) : a_(a), b_(b) {}
+  Differ(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b, AlignBudget& budget)
+      : a_(a), b_(b), budget_(budget) {}
 
   std::vector<Step> run() {
-    struct Task {
-      bool emit_matches;
-      size_t a0, a1, b0, b1;
-    };
     std::vector<Task> stack{{false, 0, a_.size(), 0, b_.size()}};
     while (!stack.empty()) {
       Task t = stack.back();
@@ -43,6 +42,8 @@ class Differ {
         emit_mismatch(t.a0, t.a1, t.b0, t.b1);
         continue;
       }
+      if ((t.a1 - t.a0) + (t.b1 - t.b0) > kAnchorRegion && anchor(t.a0, t.a1, t.b0, t.b1, stack))
+        continue;
       size_t x = 0, y = 0;
       if (!bisect(t.a0, t.a1, t.b0, t.b1, x, y)) {
         emit_mismatch(t.a0, t.a1, t.b0, t.b1);
@@ -55,7 +56,64 @@ class Differ {
   }
 
  private:
+  struct Task {
+    bool emit_matches;
+    size_t a0, a1, b0, b1;
+  };
+
   static uint32_t u32(size_t v) { return static_cast<uint32_t>(v); }
+
+  // Patience anchors for a large region: keys that occur once in each side, the longest run of
+  // them in the same order on both (a longest increasing subsequence), become matches, and the
+  // gaps between them are aligned on their own. An inserted block of thousands of motions then
+  // costs its length, not Myers' (n + m) D. False when there is no such key.
+  bool anchor(size_t a0, size_t a1, size_t b0, size_t b1, std::vector<Task>& stack) {
+    struct Count {
+      uint32_t in_a = 0, in_b = 0, j = 0;
+    };
+    std::unordered_map<uint64_t, Count> counts;
+    counts.reserve(a1 - a0);
+    for (size_t i = a0; i < a1; ++i)
+      ++counts[a_[i]].in_a;
+    for (size_t j = b0; j < b1; ++j) {
+      const auto it = counts.find(b_[j]);
+      if (it != counts.end() && it->second.in_b++ == 0)
+        it->second.j = u32(j);
+    }
+    std::vector<std::pair<uint32_t, uint32_t>> unique;  // (i, j), ascending in i
+    for (size_t i = a0; i < a1; ++i) {
+      const Count& c = counts.find(a_[i])->second;
+      if (c.in_a == 1 && c.in_b == 1)
+        unique.emplace_back(u32(i), c.j);
+    }
+    if (unique.empty())
+      return false;
+    // Longest increasing subsequence in j: tails[k], the index in `unique` of the smallest j
+    // that ends an increasing run of length k + 1; prev links each to its predecessor.
+    std::vector<size_t> tails, prev(unique.size());
+    for (size_t u = 0; u < unique.size(); ++u) {
+      const auto pos = std::lower_bound(tails.begin(), tails.end(), unique[u].second,
+                                        [&](size_t t, uint32_t j) { return unique[t].second < j; });
+      prev[u] = pos == tails.begin() ? unique.size() : *(pos - 1);
+      if (pos == tails.end())
+        tails.push_back(u);
+      else
+        *pos = u;
+    }
+    // Tasks in reverse order (a stack): the gap after each anchor, the anchor, ..., the first gap.
+    size_t end_a = a1, end_b = b1;
+    for (size_t u = tails.back(); u != unique.size(); u = prev[u]) {
+      const size_t i = unique[u].first, j = unique[u].second;
+      if (i + 1 < end_a || j + 1 < end_b)
+        stack.push_back({false, i + 1, end_a, j + 1, end_b});
+      stack.push_back({true, i, i + 1, j, j + 1});
+      end_a = i;
+      end_b = j;
+    }
+    if (a0 < end_a || b0 < end_b)
+      stack.push_back({false, a0, end_a, b0, end_b});
+    return true;
+  }
 
   void emit_mismatch(size_t a0, size_t a1, size_t b0, size_t b1) {
     for (size_t i = a0; i < a1; ++i)
@@ -80,9 +138,11 @@ class Differ {
     auto B = [&](long j) { return b_[b0 + static_cast<size_t>(j)]; };
     for (long d = 0; d < max_d; ++d) {
       // Work budget: about (n + m) per d; give up on hopeless regions (docs/krl-diff.md).
-      work_ += static_cast<double>(2 * d + 2);
-      if (work_ > kMaxWork)
+      budget_.work_left -= static_cast<double>(2 * d + 2);
+      if (budget_.work_left < 0.0) {
+        budget_.exhausted = true;
         return false;
+      }
       for (long k1 = -d + k1start; k1 <= d - k1end; k1 += 2) {
         const long k1o = offset + k1;
         long x1 =
@@ -93,7 +153,7 @@ class Differ {
           ++x1;
           ++y1;
         }
-        work_ += static_cast<double>(x1 - start1);
+        budget_.work_left -= static_cast<double>(x1 - start1);
         v1[k1o] = x1;
         if (x1 > n) {
           k1end += 2;
@@ -118,7 +178,7 @@ class Differ {
           ++x2;
           ++y2;
         }
-        work_ += static_cast<double>(x2 - start2);
+        budget_.work_left -= static_cast<double>(x2 - start2);
         v2[k2o] = x2;
         if (x2 > n) {
           k2end += 2;
@@ -141,17 +201,20 @@ class Differ {
     return false;
   }
 
-  static constexpr double kMaxWork = 4e8;
+  // Regions up to this many keys (both sides) go to Myers directly: it is cheap there, and gives
+  // the shortest edit.
+  static constexpr size_t kAnchorRegion = 4096;
   const std::vector<uint64_t>& a_;
   const std::vector<uint64_t>& b_;
+  AlignBudget& budget_;
   std::vector<Step> out_;
-  double work_ = 0.0;
 };
 
 }  // namespace
 
-std::vector<Step> align_keys(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b) {
-  return Differ(a, b).run();
+std::vector<Step> align_keys(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
+                             AlignBudget& budget) {
+  return Differ(a, b, budget).run();
 }
 
 }  // namespace redpost::krl

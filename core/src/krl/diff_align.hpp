@@ -15,7 +15,17 @@ struct Step {
   uint32_t j;  // index in B (match, ins)
 };
 
-// The steps that turn `a` into `b`, in order: matches, deletions from A, insertions from B.
-std::vector<Step> align_keys(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b);
+// The work the alignments of one diff may take together: about (n + m) per edit, so that two
+// unrelated programs still finish in seconds (docs/krl-diff.md).
+struct AlignBudget {
+  double work_left = 4e8;
+  bool exhausted = false;  // some region was left unaligned for want of it
+};
+
+// The steps that turn `a` into `b`, in order: matches, deletions from A, insertions from B. A
+// region whose alignment would take more than the budget is left unaligned: its motions are
+// deletions and insertions (they are paired again in order by the caller).
+std::vector<Step> align_keys(const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
+                             AlignBudget& budget);
 
 }  // namespace redpost::krl

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "krl/diff_source.hpp"
+#include "krl/diff_stream.hpp"
 #include "krl/reader_parse.hpp"
 #include "krl/text.hpp"
 #include "redpost/io/error.hpp"
@@ -32,6 +34,15 @@ void merge(KrlDiffResult& total, const KrlDiffResult& r, const KrlDiffOptions& o
   total.removed += r.removed;
   total.difference_count += r.difference_count;
   total.aligned_by_cl_line = total.aligned_by_cl_line || r.aligned_by_cl_line;
+  total.window = r.window;
+  if (r.unaligned_regions > 0 && total.unaligned_regions == 0) {
+    total.unaligned_file_a = r.unaligned_file_a;
+    total.unaligned_line_a = r.unaligned_line_a;
+    total.unaligned_file_b = r.unaligned_file_b;
+    total.unaligned_line_b = r.unaligned_line_b;
+  }
+  total.unaligned_regions += r.unaligned_regions;
+  total.budget_exhausted = total.budget_exhausted || r.budget_exhausted;
   for (const KrlDifference& d : r.differences)
     if (total.differences.size() < o.max_shown)
       total.differences.push_back(d);
@@ -61,6 +72,12 @@ void merge(KrlDiffResult& total, const KrlDiffResult& r, const KrlDiffOptions& o
     t.sum += s.sum;
     t.max = std::max(t.max, s.max);
   }
+}
+
+// Both programs read side by side, each on a thread of its own (krl/diff_source.hpp).
+KrlDiffResult diff_krl_files(const std::string& a, const std::string& b, const KrlDiffOptions& o) {
+  krl::FilePoseSource sa(a), sb(b);
+  return krl::diff_pose_streams(sa, sb, o);
 }
 
 bool is_src(const fs::path& p) {
@@ -135,7 +152,7 @@ KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_
     throw Error(ErrorCode::bad_input,
                 "cannot compare a directory with a file: '" + path_a + "' and '" + path_b + "'");
   if (!dir_a)
-    return diff_krl_programs(read_krl_program(path_a), read_krl_program(path_b), options);
+    return diff_krl_files(path_a, path_b, options);
 
   std::map<std::string, std::string> ma, mb;
   for (const std::string& p : krl_main_programs(path_a))
@@ -149,8 +166,7 @@ KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_
       total.unmatched.push_back("only in A: " + pa);
       continue;
     }
-    merge(total, diff_krl_programs(read_krl_program(pa), read_krl_program(it->second), options),
-          options);
+    merge(total, diff_krl_files(pa, it->second, options), options);
   }
   for (const auto& [name, pb] : mb)
     if (!ma.count(name))

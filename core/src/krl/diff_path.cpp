@@ -1,3 +1,4 @@
+// The other program's path as a sliding window of segments in a grid (krl/diff_path.hpp).
 #include "krl/diff_path.hpp"
 
 #include <algorithm>
@@ -24,48 +25,101 @@ Eigen::Vector3d vec(const std::array<double, 3>& v) {
 
 }  // namespace
 
-std::size_t PathIndex::CellHash::operator()(const Cell& c) const {
+std::size_t PathWindow::CellHash::operator()(const Cell& c) const {
   std::uint64_t h = 1469598103934665603ULL;
   for (std::int64_t v : c)
     h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ULL;
   return static_cast<std::size_t>(h);
 }
 
-PathIndex::Cell PathIndex::cell_of(const std::array<double, 3>& p) const {
+PathWindow::PathWindow(double cell_mm) : h_(std::max(cell_mm, 1e-3)) {}
+
+void PathWindow::set_cell(double cell_mm) {
+  h_ = std::max(cell_mm, 1e-3);
+  rebuild();
+}
+
+PathWindow::Cell PathWindow::cell_of(const std::array<double, 3>& p) const {
   return {static_cast<std::int64_t>(std::floor(p[0] / h_)),
           static_cast<std::int64_t>(std::floor(p[1] / h_)),
           static_cast<std::int64_t>(std::floor(p[2] / h_))};
 }
 
+bool PathWindow::has_segment(std::uint64_t id) const {
+  const std::uint64_t next = id + 1;
+  return next < first_id_ + points_.size() && !point(next).starts_piece;
+}
+
 // A segment goes into the cells of points along it every h/2, so that every point of it is
-// within h/4 of a point that was put in a cell.
-void PathIndex::insert_segment(std::uint32_t i) {
-  const Eigen::Vector3d a = vec(points_[i].xyz);
-  const Eigen::Vector3d b =
-      i + 1 < points_.size() && !points_[i + 1].starts_piece ? vec(points_[i + 1].xyz) : a;
+// within h/4 of a point that was put in a cell. A point is put in alone when it arrives and with
+// its segment when the next point does.
+template <class Visit>
+void PathWindow::for_each_cell(std::uint64_t id, bool segment, Visit&& visit) const {
+  const Eigen::Vector3d a = vec(point(id).xyz);
+  const Eigen::Vector3d b = segment ? vec(point(id + 1).xyz) : a;
   const double length = (b - a).norm();
   const int steps = static_cast<int>(std::ceil(length / (0.5 * h_)));
   Cell last{std::numeric_limits<std::int64_t>::min(), 0, 0};
   for (int k = 0; k <= steps; ++k) {
     const Eigen::Vector3d p = steps == 0 ? a : a + (b - a) * (static_cast<double>(k) / steps);
     const Cell c = cell_of({p.x(), p.y(), p.z()});
-    if (c == last)
-      continue;
-    std::vector<std::uint32_t>& v = grid_[c];
-    if (v.empty() || v.back() != i)
-      v.push_back(i);
+    if (c != last)
+      visit(c);
     last = c;
   }
 }
 
-PathIndex::PathIndex(std::vector<PathPoint> points, double cell_mm)
-    : points_(std::move(points)), h_(std::max(cell_mm, 1e-3)) {
-  for (std::uint32_t i = 0; i < points_.size(); ++i)
-    if (finite3(points_[i].xyz))
-      insert_segment(i);
+void PathWindow::insert(std::uint64_t id, bool segment) {
+  for_each_cell(id, segment, [&](const Cell& c) {
+    std::vector<std::uint64_t>& v = grid_[c];
+    if (v.empty() || v.back() != id)
+      v.push_back(id);
+  });
 }
 
-PathIndex::Nearest PathIndex::nearest(const PathPoint& q) const {
+// The oldest point leaves: ids go into a cell in ascending order, so it is the cell's first.
+void PathWindow::remove(std::uint64_t id, bool segment) {
+  for_each_cell(id, segment, [&](const Cell& c) {
+    const auto it = grid_.find(c);
+    if (it == grid_.end() || it->second.empty() || it->second.front() != id)
+      return;
+    it->second.erase(it->second.begin());
+    if (it->second.empty())
+      grid_.erase(it);
+  });
+}
+
+void PathWindow::push(const PathPoint& p) {
+  if (!finite3(p.xyz))
+    return;
+  points_.push_back(p);
+  const std::uint64_t id = first_id_ + points_.size() - 1;
+  if (id > first_id_ && has_segment(id - 1))
+    insert(id - 1, true);
+  insert(id, false);
+}
+
+void PathWindow::drop_before(std::uint64_t seq) {
+  // The newest point stays: the next one's segment starts there.
+  while (points_.size() > 1 && points_.front().seq < seq) {
+    remove(first_id_, false);
+    if (has_segment(first_id_))
+      remove(first_id_, true);
+    points_.pop_front();
+    ++first_id_;
+  }
+}
+
+void PathWindow::rebuild() {
+  grid_.clear();
+  for (std::uint64_t id = first_id_; id < first_id_ + points_.size(); ++id) {
+    insert(id, false);
+    if (has_segment(id))
+      insert(id, true);
+  }
+}
+
+PathWindow::Nearest PathWindow::nearest(const PathPoint& q) const {
   Nearest best;
   best.distance_mm = std::numeric_limits<double>::infinity();
   best.orientation_deg = std::numeric_limits<double>::quiet_NaN();
@@ -73,7 +127,7 @@ PathIndex::Nearest PathIndex::nearest(const PathPoint& q) const {
     return best;
   const Eigen::Vector3d x = vec(q.xyz);
   const Cell c0 = cell_of(q.xyz);
-  std::uint32_t best_segment = 0;
+  std::uint64_t best_id = first_id_;
   double best_t = 0.0;
   for (int r = 0; r <= kMaxRings; ++r) {
     // The shell of cells at Chebyshev distance r from the query's cell.
@@ -85,17 +139,16 @@ PathIndex::Nearest PathIndex::nearest(const PathPoint& q) const {
           const auto it = grid_.find({c0[0] + dx, c0[1] + dy, c0[2] + dz});
           if (it == grid_.end())
             continue;
-          for (std::uint32_t i : it->second) {
-            const Eigen::Vector3d a = vec(points_[i].xyz);
-            const bool segment = i + 1 < points_.size() && !points_[i + 1].starts_piece;
-            const Eigen::Vector3d b = segment ? vec(points_[i + 1].xyz) : a;
+          for (std::uint64_t id : it->second) {
+            const Eigen::Vector3d a = vec(point(id).xyz);
+            const Eigen::Vector3d b = has_segment(id) ? vec(point(id + 1).xyz) : a;
             const Eigen::Vector3d ab = b - a;
             const double len2 = ab.squaredNorm();
             const double t = len2 > 0.0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
             const double d = (a + t * ab - x).norm();
             if (d < best.distance_mm) {
               best.distance_mm = d;
-              best_segment = i;
+              best_id = id;
               best_t = t;
             }
           }
@@ -114,9 +167,8 @@ PathIndex::Nearest PathIndex::nearest(const PathPoint& q) const {
     }
   }
   // The orientation of the path at the nearest point: the segment's end orientations, slerped.
-  const PathPoint& a = points_[best_segment];
-  const bool segment = best_segment + 1 < points_.size() && !points_[best_segment + 1].starts_piece;
-  const PathPoint& b = segment ? points_[best_segment + 1] : a;
+  const PathPoint& a = point(best_id);
+  const PathPoint& b = has_segment(best_id) ? point(best_id + 1) : a;
   if (finite3(q.abc) && finite3(a.abc) && finite3(b.abc)) {
     const Eigen::Quaterniond qa(rotation_from_abc({a.abc[0], a.abc[1], a.abc[2]}));
     const Eigen::Quaterniond qb(rotation_from_abc({b.abc[0], b.abc[1], b.abc[2]}));

@@ -155,6 +155,22 @@ std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o
         r.path_file.empty() ? "" : ", at " + where(r.path_file, r.path_line, 0), num(o.path_tol_mm),
         o.as_curves ? "" : "; --as-curves compares by it");
   }
+  if (r.unaligned_regions > 0)
+    out += fmt::format(
+        "alignment: {} region{} where no motion had a partner within the window of {} motions, "
+        "the first from {} and {} on; {} paired in order.{}\n",
+        r.unaligned_regions, r.unaligned_regions == 1 ? "" : "s", r.window,
+        where(r.unaligned_file_a, r.unaligned_line_a, 0),
+        where(r.unaligned_file_b, r.unaligned_line_b, 0),
+        r.unaligned_regions == 1 ? "its motions were" : "their motions were",
+        // Past the work budget the programs differ nearly everywhere: no window would help.
+        r.budget_exhausted         ? ""
+        : r.unaligned_regions == 1 ? " A larger --window may align it."
+                                   : " A larger --window may align them.");
+  if (r.budget_exhausted)
+    out +=
+        "alignment: the work budget ran out (programs with very many differences); the rest "
+        "of that region was paired in order\n";
   out += fmt::format(
       "{}: {} motions in A, {} in B, {} compared ({}), {} changed, {} inserted, {} removed\n",
       r.equal ? "equal" : "different", r.motions_a, r.motions_b, r.compared,
@@ -185,6 +201,13 @@ std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o
       "\"vel_cp_m_per_s\": {}, \"path_mm\": {}}}, \"as_curves\": {}, ",
       json_number(o.pos_tol_mm), json_number(o.ang_tol_deg), json_number(o.axis_tol),
       json_number(o.vel_tol_m_per_s), json_number(o.path_tol_mm), o.as_curves ? "true" : "false");
+  out += fmt::format("\"window\": {}, \"budget_exhausted\": {}, \"unaligned\": {{\"regions\": {}, ",
+                     r.window, r.budget_exhausted ? "true" : "false", r.unaligned_regions);
+  out += "\"a\": {\"file\": ";
+  json_string(out, r.unaligned_file_a);
+  out += fmt::format(", \"line\": {}}}, \"b\": {{\"file\": ", r.unaligned_line_a);
+  json_string(out, r.unaligned_file_b);
+  out += fmt::format(", \"line\": {}}}}}, ", r.unaligned_line_b);
   out += fmt::format("\"path\": {{\"distance_mm\": {}, \"exact\": {}, \"file\": ",
                      json_number(r.path_distance_mm), r.path_exact ? "true" : "false");
   json_string(out, r.path_file);

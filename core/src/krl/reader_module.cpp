@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <memory>
 #include <unordered_map>
 
 #include "io/text_util.hpp"
@@ -19,23 +20,21 @@ using detail::trim;
 
 // --- lines -----------------------------------------------------------------------------------
 
-// Splits on LF, CRLF or CR.
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::string cur;
+// Splits on LF, CRLF or CR: views into `text`, which must outlive them.
+std::vector<std::string_view> split_lines(const std::string& text) {
+  std::vector<std::string_view> lines;
+  std::size_t start = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
-    char c = text[i];
+    const char c = text[i];
     if (c == '\r' || c == '\n') {
-      lines.push_back(cur);
-      cur.clear();
+      lines.emplace_back(text.data() + start, i - start);
       if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n')
         ++i;
-    } else {
-      cur += c;
+      start = i + 1;
     }
   }
-  if (!cur.empty())
-    lines.push_back(cur);
+  if (start < text.size())
+    lines.emplace_back(text.data() + start, text.size() - start);
   return lines;
 }
 
@@ -104,18 +103,26 @@ std::size_t for_each_krl_line(const std::string& path, const KrlLineVisitor& vis
 }
 
 // Splits a line into code and comment at the first ';' outside a "..." string.
-void split_comment(const std::string& line, std::string& code, std::string& comment) {
+void split_comment(std::string_view line, std::string& code, std::string& comment) {
+  const auto trimmed = [](std::string_view v) {
+    std::size_t b = 0, e = v.size();
+    while (b < e && std::isspace(static_cast<unsigned char>(v[b])))
+      ++b;
+    while (e > b && std::isspace(static_cast<unsigned char>(v[e - 1])))
+      --e;
+    return std::string(v.substr(b, e - b));
+  };
   bool in_string = false;
   for (std::size_t i = 0; i < line.size(); ++i) {
     if (line[i] == '"')
       in_string = !in_string;
     if (line[i] == ';' && !in_string) {
-      code = trim(line.substr(0, i));
-      comment = line.substr(i + 1);
+      code = trimmed(line.substr(0, i));
+      comment.assign(line.substr(i + 1));
       return;
     }
   }
-  code = trim(line);
+  code = trimmed(line);
   comment.clear();
 }
 
@@ -308,7 +315,8 @@ void index_defs(Module& m) {
 
 // The point DECLs between DEFDAT and ENDDAT of the module's .dat.
 void read_dat(Module& m) {
-  std::vector<std::string> dat = split_lines(read_krl_text(m.dat_path));
+  const std::string dat_text = read_krl_text(m.dat_path);
+  const std::vector<std::string_view> dat = split_lines(dat_text);
   bool in_defdat = false;
   for (int i = 0; i < static_cast<int>(dat.size()); ++i) {
     std::string code, comment;
@@ -334,7 +342,8 @@ void read_dat(Module& m) {
 Module load_module(const std::string& src_path) {
   Module m;
   m.src_path = src_path;
-  m.lines = split_lines(read_krl_text(src_path));
+  m.text = std::make_unique<const std::string>(read_krl_text(src_path));
+  m.lines = split_lines(*m.text);
   index_defs(m);
 
   // local point DECLs in the DEFs

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <string_view>
@@ -32,11 +33,11 @@ using KrlLineVisitor =
     std::function<bool(int line, const std::string& text, std::string_view ending)>;
 std::size_t for_each_krl_line(const std::string& path, const KrlLineVisitor& visit);
 
-// Splits on LF, CRLF or CR.
-std::vector<std::string> split_lines(const std::string& text);
+// Splits on LF, CRLF or CR: views into `text`, which must outlive them.
+std::vector<std::string_view> split_lines(const std::string& text);
 
 // Splits a line into code and comment at the first ';' outside a "..." string.
-void split_comment(const std::string& line, std::string& code, std::string& comment);
+void split_comment(std::string_view line, std::string& code, std::string& comment);
 
 // The leading identifier of `s` (letters, digits, '_', '$'), upper case.
 std::string leading_word(const std::string& s);
@@ -92,8 +93,9 @@ struct DefRange {
 
 struct Module {
   std::string src_path;
-  std::string dat_path;  // "" if none
-  std::vector<std::string> lines;
+  std::string dat_path;                        // "" if none
+  std::unique_ptr<const std::string> text;     // the .src as read (its bytes stay put when moved)
+  std::vector<std::string_view> lines;         // into *text
   std::vector<DefRange> defs;                  // in file order; defs[0] is the module's main DEF
   std::map<std::string, KrlAggregate> points;  // upper-case name -> value
   std::map<std::string, std::string> array_types;  // upper-case array name -> point type

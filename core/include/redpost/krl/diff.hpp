@@ -1,7 +1,8 @@
 // Comparing two KRL programs motion by motion (`redpost diff`, docs/krl-diff.md).
 //
 // The motions of both programs (read with read_krl_program, so split programs are followed
-// through their calls) are aligned, then each aligned pair is compared: position (mm,
+// through their calls, and streamed: a window of each is held, never a whole program) are
+// aligned, then each aligned pair is compared: position (mm,
 // Euclidean), orientation (the angle of R_A^T R_B, so equivalent A, B, C forms compare equal),
 // arm axes A1..A6 and external axes E1..E6 (absolute difference), Status and Turn (exact, where
 // both have them) and the motion keyword. Motions of one side that have no partner are
@@ -31,6 +32,10 @@ struct KrlDiffOptions {
   // chordal tolerance, CIRC against chords) compare equal within path_tol_mm.
   bool as_curves = false;
   size_t max_shown = 20;  // differences kept in KrlDiffResult::differences
+  // Motions of each program held at once: the alignment looks this far ahead, and each point is
+  // measured against the other program's path from a quarter of it behind to what is read ahead.
+  // Memory is bounded by it (about 0.6 KB a motion), not by the programs' length.
+  size_t window = 20000;
 };
 
 // The quantities compared, in report order.
@@ -126,16 +131,25 @@ struct KrlDiffResult {
   int path_line = 0;
   bool path_exact = true;
   std::array<KrlQuantityStats, kKrlQuantityCount> statistics{};
+  // The alignment's window (KrlDiffOptions::window), and the regions where no motion had a
+  // partner within it: their first halves were paired in order. The first such region's place.
+  size_t window = 0;
+  size_t unaligned_regions = 0;
+  std::string unaligned_file_a, unaligned_file_b;
+  int unaligned_line_a = 0, unaligned_line_b = 0;
+  // The alignment's work budget ran out somewhere: the rest of that region was paired in order.
+  bool budget_exhausted = false;
   // Directory comparison: programs found on one side only ("only in A: FOO.src").
   std::vector<std::string> unmatched;
 };
 
-// Compares two programs already read.
+// Compares two programs already read (as diff_krl_paths compares them from their files).
 KrlDiffResult diff_krl_programs(const KrlProgram& a, const KrlProgram& b,
                                 const KrlDiffOptions& options);
 
 // Compares two .src files, or two directories (their main programs matched by file name,
-// case-insensitively). Throws Error (io, bad_input) as read_krl_program does.
+// case-insensitively). Both programs are read side by side, on threads of their own. Throws
+// Error (io, bad_input) as read_krl_program does.
 KrlDiffResult diff_krl_paths(const std::string& path_a, const std::string& path_b,
                              const KrlDiffOptions& options);
 
