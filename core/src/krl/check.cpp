@@ -518,9 +518,13 @@ std::vector<std::string> krl_declared_names(const std::string& text) {
   return names;
 }
 
-std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
-                                       const std::vector<std::string>& dat_declared,
-                                       const KrlCheckOptions& options) {
+namespace {
+
+// The text checks of one file's whole text. `declared`: the names declared in its .dat; on
+// return, with the file's own.
+std::vector<KrlFinding> check_text(const std::string& file, const std::string& text,
+                                   std::set<std::string>& declared,
+                                   const KrlCheckOptions& options) {
   TextCheck c(file);
   if (text.size() > options.max_bytes)
     c.find(1, fmt::format("file is {} bytes, more than the limit of {} (--max-bytes)", text.size(),
@@ -536,9 +540,19 @@ std::vector<KrlFinding> check_krl_text(const std::string& file, const std::strin
       return c.out;
     }
   }
-  c.declared.insert(dat_declared.begin(), dat_declared.end());
+  c.declared = std::move(declared);
   for_each_line(text, [&](int line_no, const std::string& line) { c.check_line(line_no, line); });
+  declared = std::move(c.declared);
   return c.finish();
+}
+
+}  // namespace
+
+std::vector<KrlFinding> check_krl_text(const std::string& file, const std::string& text,
+                                       const std::vector<std::string>& dat_declared,
+                                       const KrlCheckOptions& options) {
+  std::set<std::string> declared(dat_declared.begin(), dat_declared.end());
+  return check_text(file, text, declared, options);
 }
 
 namespace {
@@ -585,6 +599,38 @@ KrlFinding check_krl_statements(const std::string& lines) {
   return first;
 }
 
+namespace {
+
+// The .src files of a folder and every folder under it (links not followed: a cell's programs
+// are often kept one folder per part), and each folder's main programs among its own files.
+void find_programs(const std::string& path, std::vector<std::string>& srcs,
+                   std::vector<std::string>& mains) {
+  std::error_code ec;
+  std::vector<std::string> folders{path};
+  for (fs::recursive_directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory() && !it->is_symlink())
+      folders.push_back(it->path().string());
+  std::sort(folders.begin() + 1, folders.end());
+  for (const std::string& folder : folders) {
+    const size_t first = srcs.size();
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_regular_file() && upper(it->path().extension().string()) == ".SRC")
+        srcs.push_back(it->path().string());
+    if (srcs.size() == first)
+      continue;
+    std::sort(srcs.begin() + static_cast<long>(first), srcs.end());
+    for (std::string& m : krl_main_programs(folder))
+      mains.push_back(std::move(m));
+  }
+  if (srcs.empty()) {
+    throw Error(ErrorCode::bad_input,
+                "no KRL program (.src) in this folder or the folders under it: nothing to check",
+                SourceLocation{path, 0, 0});
+  }
+}
+
+}  // namespace
+
 std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions& options) {
   std::vector<KrlFinding> out;
   std::vector<std::string> srcs, mains;
@@ -592,43 +638,39 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
   const bool directory = fs::is_directory(path, ec);
   if (!directory && !fs::exists(path, ec))
     throw Error(ErrorCode::io, "no such file or directory", SourceLocation{path, 0, 0});
-  if (directory) {
-    // The folder and every folder under it (links not followed): a cell's programs are often
-    // kept one folder per part. Each folder's main programs are found among its own files.
-    std::vector<std::string> folders{path};
-    for (fs::recursive_directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec))
-      if (it->is_directory() && !it->is_symlink())
-        folders.push_back(it->path().string());
-    std::sort(folders.begin() + 1, folders.end());
-    for (const std::string& folder : folders) {
-      const size_t first = srcs.size();
-      for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
-        if (it->is_regular_file() && upper(it->path().extension().string()) == ".SRC")
-          srcs.push_back(it->path().string());
-      if (srcs.size() == first)
-        continue;
-      std::sort(srcs.begin() + static_cast<long>(first), srcs.end());
-      for (std::string& m : krl_main_programs(folder))
-        mains.push_back(std::move(m));
-    }
-    if (srcs.empty()) {
-      throw Error(ErrorCode::bad_input,
-                  "no KRL program (.src) in this folder or the folders under it: nothing to check",
-                  SourceLocation{path, 0, 0});
-    }
-  } else {
+  if (directory)
+    find_programs(path, srcs, mains);
+  else
     mains.push_back(path);
-  }
 
-  // The program as read: motion checks, and (for a file) the .src files it calls.
+  // The program as read: motion checks, the text checks of each file as the reader loads it
+  // (the .dat before its .src), and (for a file) the .src files it calls.
   std::set<std::string> seen;
+  std::set<std::string> text_checked;                      // by normal path
+  std::map<std::string, std::set<std::string>> dat_names;  // by normal path
+  const auto check_loaded = [&](const std::string& file, const std::string& text) {
+    if (!text_checked.insert(normal(file)).second)
+      return;
+    std::set<std::string> declared;
+    if (upper(fs::path(file).extension().string()) == ".DAT") {
+      for (KrlFinding& f : check_text(file, text, declared, options))
+        out.push_back(std::move(f));
+      dat_names[normal(file)] = std::move(declared);
+      return;
+    }
+    const std::string dat = dat_of(fs::path(file));
+    if (!dat.empty() && dat_names.count(normal(dat)))
+      declared = dat_names[normal(dat)];
+    for (KrlFinding& f : check_text(file, text, declared, options))
+      out.push_back(std::move(f));
+  };
   std::vector<KrlFinding> reader_stops;  // programs the reader rejected
   for (const std::string& m : mains) {
     try {
       // Streamed: a motion at a time, so that memory does not grow with the program.
       krl::MotionChecks checks(options, m);
-      const KrlProgram program =
-          read_krl_program(m, [&](const KrlMotionRecord& r) { checks.add(r); });
+      const KrlProgram program = read_krl_program(
+          m, [&](const KrlMotionRecord& r) { checks.add(r); }, check_loaded);
       for (KrlFinding& f : checks.finish())
         out.push_back(std::move(f));
       if (!directory)
@@ -645,9 +687,11 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
   if (!directory && seen.insert(normal(path)).second)
     srcs.insert(srcs.begin(), path);
 
-  // Each file read once, a line at a time: the .dat first, whose names the .src may use.
-  std::map<std::string, std::set<std::string>> dat_names;  // by normal path
+  // Files the reader did not load (it stopped early, or no program calls them): read here, a
+  // line at a time, the .dat first, whose names the .src may use.
   for (const std::string& src : srcs) {
+    if (text_checked.count(normal(src)))
+      continue;
     const std::string dat = dat_of(fs::path(src));
     std::set<std::string> declared;
     if (!dat.empty()) {
@@ -656,12 +700,14 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
         for (KrlFinding& f : check_krl_file(dat, declared, options))
           out.push_back(std::move(f));
         dat_names[normal(dat)] = declared;
+        text_checked.insert(normal(dat));
       } else {
         declared = known->second;
       }
     }
     for (KrlFinding& f : check_krl_file(src, declared, options))
       out.push_back(std::move(f));
+    text_checked.insert(normal(src));
   }
 
   for (KrlFinding& f : out)

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -20,7 +21,7 @@ constexpr std::size_t kMinWindow = 16;
 class StreamDiff {
  public:
   StreamDiff(PoseSource& a, PoseSource& b, const KrlDiffOptions& o)
-      : opt_(o), src_{&a, &b}, window_(std::max(o.window, kMinWindow)), cmp_(o, r_, paths()) {
+      : src_{&a, &b}, window_(std::max(o.window, kMinWindow)), cmp_(o, r_, paths()) {
     r_.window = window_;
   }
 
@@ -147,8 +148,17 @@ class StreamDiff {
     const Buffer &A = buf_[0], &B = buf_[1];
     const std::size_t na = A.size(), nb = B.size(), lim_a = limit(0), lim_b = limit(1);
     std::size_t ia = 0, ib = 0;
+    // Each run's end is found once, not again while the other side walks past it.
+    std::size_t ea = 0, eb = 0, ea_of = SIZE_MAX, eb_of = SIZE_MAX;
     while (ia < na || ib < nb) {
-      const std::size_t ea = ia < na ? run_end(A, ia) : ia, eb = ib < nb ? run_end(B, ib) : ib;
+      if (ea_of != ia) {
+        ea = ia < na ? run_end(A, ia) : ia;
+        ea_of = ia;
+      }
+      if (eb_of != ib) {
+        eb = ib < nb ? run_end(B, ib) : ib;
+        eb_of = ib;
+      }
       const bool ok_a = ia < na && (ea < na || eof_[0]) && ea <= lim_a;
       const bool ok_b = ib < nb && (eb < nb || eof_[1]) && eb <= lim_b;
       const int ca = ia < na ? A[ia].cl_line : 0, cb = ib < nb ? B[ib].cl_line : 0;
@@ -265,7 +275,6 @@ class StreamDiff {
     advance(1, lim_b);
   }
 
-  const KrlDiffOptions& opt_;
   KrlDiffResult r_;
   PoseSource* src_[2];
   std::size_t window_;

@@ -73,15 +73,18 @@ KrlMotionRateCounter::KrlMotionRateCounter(const KrlMotionRateOptions& options)
     : options_(options) {}
 
 void KrlMotionRateCounter::add(const KrlMotionRecord& m) {
-  if (pending_)
-    count(*pending_, &m);
-  pending_ = m;
+  detail::KrlMeasuredMotion& next = held_[1 - current_];
+  measure(m, next);
+  if (holding_)
+    count(held_[current_], &next.joint);
+  current_ = 1 - current_;
+  holding_ = true;
 }
 
 KrlMotionRate KrlMotionRateCounter::finish() {
-  if (pending_)
-    count(*pending_, nullptr);
-  pending_.reset();
+  if (holding_)
+    count(held_[current_], nullptr);
+  holding_ = false;
   close_stretch();
   return std::move(out_);
 }
@@ -95,34 +98,34 @@ void KrlMotionRateCounter::close_stretch() {
   open_ = KrlShortStretch{};
 }
 
-void KrlMotionRateCounter::count(const KrlMotionRecord& m, const KrlMotionRecord* next) {
-  // Whether this motion joins the one before it, and the next one it (known now).
-  const bool joined_before = have_before_ && joins_smoothly(before_, joint_of(m));
-  const bool joined_after = next && joins_smoothly(joint_of(m), joint_of(*next));
-  before_ = joint_of(m);
-  have_before_ = true;
-
-  const double cycle = options_.interpolation_cycle_s;
-  const double ori_rad_s = options_.orientation_velocity_deg_s * M_PI / 180.0;
+// What the count needs of a motion, measured as it arrives: the TCP it starts from is the last
+// measured one's end, which only the motions before it move.
+void KrlMotionRateCounter::measure(const KrlMotionRecord& m, detail::KrlMeasuredMotion& out) {
+  using Kind = detail::KrlMeasuredMotion::Kind;
+  out.joint = joint_of(m);
+  out.file = m.file;
+  out.line = m.line;
+  out.seconds = 0.0;
   const std::string kw = krl::upper(m.keyword);
+  const bool cp = is_cp(kw);
+  out.closes_stretch = !cp;
   if (m.relative || !cartesian(m.target)) {
     // An axis-only target (a PTP to an E6AXIS): where the TCP is next is not known here.
-    if (is_cp(kw) && !m.relative)
-      ++out_.unmeasured;
+    out.kind = Kind::axis_target;
+    out.unmeasured = cp && !m.relative;
+    out.closes_stretch = true;
     have_last_ = false;
-    close_stretch();
     return;
   }
   const Pose now = pose_of(m.target, last_);
-  if (!is_cp(kw) || !have_last_ || !(m.vel_cp_m_per_s > 0.0)) {
-    if (is_cp(kw))
-      ++out_.unmeasured;
+  if (!cp || !have_last_ || !(m.vel_cp_m_per_s > 0.0)) {
+    out.kind = Kind::untimed;
+    out.unmeasured = cp;
     last_ = now;
     have_last_ = true;
-    if (!is_cp(kw))
-      close_stretch();
     return;
   }
+  out.unmeasured = false;
   double length = (now.p - last_.p).norm();
   Circle arc;
   if ((kw == "CIRC" || kw == "SCIRC") && m.aux && cartesian(*m.aux) &&
@@ -133,10 +136,28 @@ void KrlMotionRateCounter::count(const KrlMotionRecord& m, const KrlMotionRecord
     const double c = std::clamp(0.5 * ((last_.R.transpose() * now.R).trace() - 1.0), -1.0, 1.0);
     turn = std::acos(c);
   }
-  const double seconds = std::max(length / (1000.0 * m.vel_cp_m_per_s), turn / ori_rad_s);
+  const double ori_rad_s = options_.orientation_velocity_deg_s * M_PI / 180.0;
+  out.seconds = std::max(length / (1000.0 * m.vel_cp_m_per_s), turn / ori_rad_s);
+  // Nothing moves: not a motion the controller times.
+  out.kind = out.seconds > 0.0 ? Kind::timed : Kind::still;
   last_ = now;
-  if (!(seconds > 0.0))
-    return;  // nothing moves: not a motion the controller times
+}
+
+void KrlMotionRateCounter::count(const detail::KrlMeasuredMotion& m,
+                                 const detail::KrlSplineJoint* next) {
+  using Kind = detail::KrlMeasuredMotion::Kind;
+  // Whether this motion joins the one before it, and the next one it (known now).
+  const bool joined_before = have_before_ && joins_smoothly(before_, m.joint);
+  const bool joined_after = next && joins_smoothly(m.joint, *next);
+  before_ = m.joint;
+  have_before_ = true;
+  if (m.unmeasured)
+    ++out_.unmeasured;
+  if (m.kind != Kind::timed) {
+    if (m.closes_stretch)
+      close_stretch();
+    return;
+  }
   ++out_.cp_motions;
   // A segment joined smoothly to its neighbour is part of a path the controller plans whole
   // (docs/timing.md, "SPLINE blocks"): no cycle of its own.
@@ -145,23 +166,23 @@ void KrlMotionRateCounter::count(const KrlMotionRecord& m, const KrlMotionRecord
     close_stretch();
     return;
   }
-  if (out_.shortest_line == 0 || seconds < out_.shortest_s) {
-    out_.shortest_s = seconds;
+  if (out_.shortest_line == 0 || m.seconds < out_.shortest_s) {
+    out_.shortest_s = m.seconds;
     out_.shortest_file = m.file;
     out_.shortest_line = m.line;
   }
-  if (seconds < cycle * kKrlBelowCycle) {
+  if (m.seconds < options_.interpolation_cycle_s * kKrlBelowCycle) {
     ++out_.below_cycle;
     if (open_.motions > 0 && open_.file != m.file)
       close_stretch();
     if (open_.motions == 0) {
       open_.file = m.file;
       open_.first_line = m.line;
-      open_.shortest_s = seconds;
+      open_.shortest_s = m.seconds;
     }
     open_.last_line = m.line;
     ++open_.motions;
-    open_.shortest_s = std::min(open_.shortest_s, seconds);
+    open_.shortest_s = std::min(open_.shortest_s, m.seconds);
   } else {
     close_stretch();
   }

@@ -84,7 +84,9 @@ class Reader {
  public:
   // With `sink`, motions are handed over instead of kept, and modules are dropped when no
   // call in progress needs them (read_krl_program with a sink, reader.hpp).
-  explicit Reader(KrlProgram& out, const KrlMotionSink* sink = nullptr) : out_(out), sink_(sink) {}
+  explicit Reader(KrlProgram& out, const KrlMotionSink* sink = nullptr,
+                  const KrlTextSink* text = nullptr)
+      : out_(out), sink_(sink), text_(text) {}
 
   // The motion held back for an ENDSPLINE's approximation goes out at the end.
   void finish() {
@@ -108,6 +110,7 @@ class Reader {
  private:
   KrlProgram& out_;
   const KrlMotionSink* sink_;
+  const KrlTextSink* text_;              // each file's text, the first time it is loaded
   std::optional<KrlMotionRecord> held_;  // with a sink: the last motion, until the next statement
   long motions_ = 0;                     // motions read so far
   std::set<std::string> files_seen_;
@@ -130,8 +133,10 @@ class Reader {
     auto it = modules_.find(key);
     if (it != modules_.end())
       return *it->second;
-    auto m = std::make_unique<Module>(load_module(path));
-    if (files_seen_.insert(key).second)
+    // A part dropped after its call and called again is read again, but its text was seen.
+    const bool first = files_seen_.insert(key).second;
+    auto m = std::make_unique<Module>(load_module(path, first ? text_ : nullptr));
+    if (first)
       out_.files.push_back(path);
     if (m->stray_line)
       warn_once("outside-def:" + path, path, m->stray_line, "statement outside DEF skipped");
@@ -501,6 +506,15 @@ KrlProgram read_krl_program(const std::string& src_path) {
 KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion) {
   KrlProgram program;
   Reader reader(program, &motion);
+  reader.run(src_path);
+  reader.finish();
+  return program;
+}
+
+KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion,
+                            const KrlTextSink& text) {
+  KrlProgram program;
+  Reader reader(program, &motion, &text);
   reader.run(src_path);
   reader.finish();
   return program;

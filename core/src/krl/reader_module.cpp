@@ -314,8 +314,7 @@ void index_defs(Module& m) {
 }
 
 // The point DECLs between DEFDAT and ENDDAT of the module's .dat.
-void read_dat(Module& m) {
-  const std::string dat_text = read_krl_text(m.dat_path);
+void read_dat(Module& m, const std::string& dat_text) {
   const std::vector<std::string_view> dat = split_lines(dat_text);
   bool in_defdat = false;
   for (int i = 0; i < static_cast<int>(dat.size()); ++i) {
@@ -339,10 +338,23 @@ void read_dat(Module& m) {
 
 }  // namespace
 
-Module load_module(const std::string& src_path) {
+Module load_module(const std::string& src_path, const KrlTextSink* text) {
   Module m;
   m.src_path = src_path;
+  // The .dat beside it is read first (its names are the .src's), parsed last (the .src's
+  // errors come first).
+  const fs::path p(src_path);
+  m.dat_path = find_file_nocase(p.parent_path().empty() ? fs::path(".") : p.parent_path(),
+                                p.stem().string(), "dat");
+  std::string dat_text;
+  if (!m.dat_path.empty()) {
+    dat_text = read_krl_text(m.dat_path);
+    if (text)
+      (*text)(m.dat_path, dat_text);
+  }
   m.text = std::make_unique<const std::string>(read_krl_text(src_path));
+  if (text)
+    (*text)(src_path, *m.text);
   m.lines = split_lines(*m.text);
   index_defs(m);
 
@@ -354,12 +366,8 @@ Module load_module(const std::string& src_path) {
       read_decl(code, src_path, i + 1, m);
   }
 
-  // the .dat beside it
-  fs::path p(src_path);
-  m.dat_path = find_file_nocase(p.parent_path().empty() ? fs::path(".") : p.parent_path(),
-                                p.stem().string(), "dat");
   if (!m.dat_path.empty())
-    read_dat(m);
+    read_dat(m, dat_text);
   return m;
 }
 

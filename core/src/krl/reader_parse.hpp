@@ -108,6 +108,8 @@ std::string find_file_nocase(const std::filesystem::path& dir, const std::string
 
 // Reads a .src, indexes its DEFs and reads the point DECLs in it and in the .dat beside it.
 // Throws Error(bad_input) with file:line for unmatched DEF/END and malformed aggregates.
-Module load_module(const std::string& src_path);
+// `text`, when given, gets the .dat's text and then the .src's as they are read, before either
+// is parsed.
+Module load_module(const std::string& src_path, const KrlTextSink* text = nullptr);
 
 }  // namespace redpost::krl

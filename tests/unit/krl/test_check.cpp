@@ -159,6 +159,36 @@ TEST_CASE("check: a folder is checked with its subfolders, and one with no progr
   fs::remove_all(root);
 }
 
+TEST_CASE("check: a split program's files checked as the reader loads them") {
+  // MAIN calls P1, P2 and P1 again. P1 uses a point of its .dat; P2 has a line that is no
+  // statement and its END missing, so the reader stops there. Each finding once, at its line:
+  // the text checks run on the text the reader loaded, the .dat's names reaching its .src.
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "redpost_check_split";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const auto write = [](const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::binary) << text;
+  };
+  write(root / "MAIN.src", "DEF MAIN( )\nP1( )\nP2( )\nP1( )\nEND\n");
+  write(root / "P1.dat", "DEFDAT P1\nDECL E6POS XP1={X 1,Y 2,Z 3,A 0,B 0,C 0}\nENDDAT\n");
+  write(root / "P1.src", "DEF P1( )\nLIN XP1\nnot a statement either\nEND\n");
+  write(root / "P2.src", "DEF P2( )\nnot a statement\nWAIT SEC 1\n");
+  const auto f = check_krl((root / "MAIN.src").string(), KrlCheckOptions{});
+  std::vector<std::string> where;
+  for (const KrlFinding& x : f) {
+    UNSCOPED_INFO(x.file << ":" << x.line << ": " << x.message);
+    where.push_back(fs::path(x.file).filename().string() + ":" + std::to_string(x.line));
+  }
+  CHECK(std::count(where.begin(), where.end(), "P1.src:2") == 0);  // XP1 is declared in P1.dat
+  CHECK(std::count(where.begin(), where.end(), "P1.src:3") == 1);
+  CHECK(std::count(where.begin(), where.end(), "P2.src:2") == 1);
+  // The text check's "no END" and the reader's stop, though the reader never got past it.
+  CHECK(std::count(where.begin(), where.end(), "P2.src:1") == 2);
+  CHECK(std::count(where.begin(), where.end(), "MAIN.src:2") == 0);
+  fs::remove_all(root);
+}
+
 TEST_CASE("check: ENDFOLD without FOLD, file size") {
   KrlCheckOptions o;
   o.max_bytes = 10;

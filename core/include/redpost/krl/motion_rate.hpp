@@ -74,10 +74,21 @@ struct KrlSplineJoint {
   int spline_block = 0;  // the SPLINE block of a motion (0: none)
   bool spl = false;      // an SPL segment
 };
+// What the counter keeps of a motion it holds back: what it measured, not the motion.
+struct KrlMeasuredMotion {
+  enum class Kind { axis_target, untimed, still, timed };
+  Kind kind = Kind::untimed;
+  KrlSplineJoint joint;
+  bool unmeasured = false;      // a CP motion whose start is not known
+  bool closes_stretch = false;  // not a CP motion: a stretch of short ones ends here
+  double seconds = 0.0;         // timed: at its $VEL.CP and the orientation velocity
+  std::string file;             // its buffer is reused from motion to motion
+  int line = 0;
+};
 }  // namespace detail
 
-// The same count, a motion at a time (a program read with a KrlMotionSink): it holds one
-// motion back, until the next one says whether the two are joined smoothly.
+// The same count, a motion at a time (a program read with a KrlMotionSink): it holds back what
+// it measured of one motion, until the next one says whether the two are joined smoothly.
 class KrlMotionRateCounter {
  public:
   explicit KrlMotionRateCounter(const KrlMotionRateOptions& options);
@@ -85,13 +96,16 @@ class KrlMotionRateCounter {
   KrlMotionRate finish();
 
  private:
-  void count(const KrlMotionRecord& m, const KrlMotionRecord* next);
+  void measure(const KrlMotionRecord& m, detail::KrlMeasuredMotion& out);
+  void count(const detail::KrlMeasuredMotion& m, const detail::KrlSplineJoint* next);
   void close_stretch();
 
   KrlMotionRateOptions options_;
   KrlMotionRate out_;
-  std::optional<KrlMotionRecord> pending_;
-  detail::KrlSplineJoint before_;  // of the motion before the pending one
+  detail::KrlMeasuredMotion held_[2];  // the one held back is held_[current_]
+  int current_ = 0;
+  bool holding_ = false;
+  detail::KrlSplineJoint before_;  // of the motion before the held one
   bool have_before_ = false;
   detail::KrlTcpPose last_;  // the TCP where the last measured motion ended
   bool have_last_ = false;

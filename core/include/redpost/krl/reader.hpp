@@ -66,4 +66,10 @@ KrlProgram read_krl_program(const std::string& src_path);
 using KrlMotionSink = std::function<void(const KrlMotionRecord&)>;
 KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion);
 
+// And each file's text as the reader first loads it, before it is parsed: a module's .dat, then
+// its .src. `redpost check` runs its text checks on it, so that each file is read once.
+using KrlTextSink = std::function<void(const std::string& path, const std::string& text)>;
+KrlProgram read_krl_program(const std::string& src_path, const KrlMotionSink& motion,
+                            const KrlTextSink& text);
+
 }  // namespace redpost
