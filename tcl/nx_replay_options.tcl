@@ -12,7 +12,7 @@ proc usage {{message ""}} {
         \[--chordal-tol MM\] \[--plan global|local\] \[--preset smooth|stiff|fast\]\
         \[--keyframe-spacing MM\] \[--lock E1=500 ...\] \[--predict-deflection\] \[--compensate\]\
         \[--cutting FILE\] \[--deflection-tol MM\] \[--fit-tol MM\] \[--fit-ang-tol DEG\]\
-        \[--lib DIR\] \[--post POST.tcl\] \[-q\] INPUT"
+        \[--threads N\] \[--lib DIR\] \[--post POST.tcl\] \[-q\] INPUT"
     exit 1
 }
 
@@ -23,7 +23,8 @@ array set option_setting {
     --tools tools --msys msys --clearance clearance --rapid-vel rapid_vel --max-bytes max_bytes
     --apo apo --split split --cl-line-every cl_line_every --chordal-tol chordal_tol --plan plan
     --preset preset --keyframe-spacing keyframe_spacing --cutting cutting
-    --deflection-tol deflection_tol --fit-tol fit_tol --fit-ang-tol fit_ang_tol --lib lib
+    --deflection-tol deflection_tol --fit-tol fit_tol --fit-ang-tol fit_ang_tol --threads threads
+    --lib lib
     --lock lock --post post
 }
 
@@ -103,7 +104,8 @@ proc replay_settings {} {
         foreach {name value} {krl "" program_name "" joints_csv "" report "" placement {}
             base "" tools "" clearance "" rapid_vel 0.25 max_bytes 0 apo 0.5 split 0
             cl_line_every 50 chordal_tol 0.01 msys ignore plan global preset smooth
-            keyframe_spacing 20 cutting "" deflection_tol 0.05 fit_tol 0.01 fit_ang_tol 0.1} {
+            keyframe_spacing 20 cutting "" deflection_tol 0.05 fit_tol 0.01 fit_ang_tol 0.1
+            threads 0} {
             variable $name $value
         }
     }

@@ -105,6 +105,10 @@ typedef struct rp_options {
    * these fields) gets 0, its program unchanged. */
   double fit_tolerance_mm;
   double fit_angle_tolerance_deg;
+  /* Appended after the point reduction: threads that solve the whole-path plan's lattice
+   * nodes together (docs/redundancy.md, "Threads"). 0 (the default): one per core, at most 8;
+   * 1: the calling thread alone. The program is the same, byte for byte, for any count. */
+  int plan_threads;
 } rp_options;
 
 enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };

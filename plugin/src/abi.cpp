@@ -89,6 +89,12 @@ void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) 
                                                  "got {}",
                                                  o.keyframe_spacing_mm)};
   }
+  if (o.plan_threads < 0 || o.plan_threads > 256) {
+    throw AbiError{
+        RP_ERR_BAD_INPUT,
+        fmt::format("options.plan_threads is {}: use 0 (one per core) to 256", o.plan_threads)};
+  }
+  post.plan_threads = o.plan_threads;
   post.plan = o.plan == RP_PLAN_LOCAL ? RedundancyPlan::local : RedundancyPlan::global;
   post.plan_settings = plan_preset(o.plan_preset == RP_PLAN_STIFF  ? PlanPreset::stiff
                                    : o.plan_preset == RP_PLAN_FAST ? PlanPreset::fast

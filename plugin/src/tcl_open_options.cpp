@@ -43,12 +43,13 @@ enum OpenOption {
   o_report,
   o_pipeline,
   o_fit_tol,
-  o_fit_ang_tol
+  o_fit_ang_tol,
+  o_threads
 };
 
 // The options of ::redpost::open added with the deflection model and after it, as `redpost
 // convert`'s --predict-deflection, --compensate, --cutting, --deflection-tol, --msys, --report,
-// --fit-tol and --fit-ang-tol (and the pipeline, which convert does not need).
+// --fit-tol, --fit-ang-tol and --threads (and the pipeline, which convert does not need).
 int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
   switch (index) {
     case o_deflection: {
@@ -83,6 +84,8 @@ int deflection_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt
       return get_double(interp, v, "-fit-tol", &opt.fit_tolerance_mm);
     case o_fit_ang_tol:
       return get_double(interp, v, "-fit-ang-tol", &opt.fit_angle_tolerance_deg);
+    case o_threads:
+      return get_int(interp, v, "-threads", &opt.plan_threads);
     default:
       break;
   }
@@ -129,7 +132,7 @@ const char* const kOpenUsage =
     "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
     "?-lock {E1=500 E2 ...}? ?-deflection off|predict|compensate? ?-cutting FILE? "
     "?-deflection-tol MM? ?-msys ignore|apply? ?-report FILE.html? ?-pipeline 0|1? "
-    "?-fit-tol MM? ?-fit-ang-tol DEG?";
+    "?-fit-tol MM? ?-fit-ang-tol DEG? ?-threads N?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
 const char* const kOpenOptions[] = {
@@ -140,7 +143,7 @@ const char* const kOpenOptions[] = {
     "-max-bytes",   "-plan",       "-preset",    "-keyframe-spacing",
     "-lock",        "-deflection", "-cutting",   "-deflection-tol",
     "-msys",        "-report",     "-pipeline",  "-fit-tol",
-    "-fit-ang-tol", nullptr};
+    "-fit-ang-tol", "-threads",    nullptr};
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
 // duration of rp_open).
 int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {

@@ -7,25 +7,15 @@
 # Usage: test_sets.sh REDPOST SOURCE_DIR
 . "$(dirname "$0")/harness.sh" cli.sets "$@"
 
+. "$(dirname "$0")/cam_inputs.sh"
 cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
-inputs=("$SRC"/examples/cl/*)
-eval_dir=$SRC/../shared/evaldata
-if [[ -d $eval_dir ]]; then
-  inputs+=("$eval_dir"/apt/*.apt "$eval_dir"/clsf/*)
-else
-  echo "cli.sets: note: ../shared/evaldata not present, the real CAM files are skipped"
-fi
 
 begin "each shipped set: every input converts to a program redpost check accepts"
 for set in "$SRC"/definitions/krl/*.xml; do
   krl=$(basename "$set" .xml)
   for f in "${inputs[@]}"; do
     name=$(basename "$f")
-    opts=()
-    case $name in
-      swcam_cutcom_multi_op.apt) continue ;;  # refused by design: a cycle on at a tool change
-      nx_variable_contour_5axis.cls) opts=(--msys apply) ;;
-    esac
+    cam_options "$name" || continue
     out=$TMP/${krl}_$name
     mkdir -p "$out"
     run convert "$f" --cell "$cell" -o "$out" --name P --krl "$set" -q "${opts[@]}"

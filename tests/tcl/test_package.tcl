@@ -129,6 +129,9 @@ check_error error.fit_tol {
 check_error error.fit_ang_tol {
     ::redpost::open -cell $cell -output $work -name X -fit-ang-tol 9
 } {REDPOST RP_ERR_BAD_INPUT} {*--fit-ang-tol is 9 deg*}
+check_error error.threads {
+    ::redpost::open -cell $cell -output $work -name X -threads -1
+} {REDPOST RP_ERR_BAD_INPUT} {*options.plan_threads is -1*}
 check_error usage.fit_tol_number {
     ::redpost::open -cell $cell -output $work -name X -fit-tol fine
 } {REDPOST USAGE} {expected a number for -fit-tol but got "fine"}

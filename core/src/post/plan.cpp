@@ -175,6 +175,9 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
     }
     PathPlanSettings settings = o.plan_settings;
     settings.normal_deflection_mm = nominal_deflection(*active_cell);
+    if (!plan_pool && o.plan_threads != 1)
+      plan_pool = std::make_unique<WorkerPool>(o.plan_threads);
+    settings.pool = plan_pool.get();
     planner = std::make_unique<PathPlanner>(*active_cell, *ik, settings);
     planner_cell = active_cell;
     // The rotary external axes the user left free, held at home for the second start.

@@ -168,6 +168,7 @@ struct PostSession::Impl {
   bool deferred_barrier = false;
   std::vector<double> dispatch_end_s;  // for the events plan_window released: s at their end
   bool dispatching = false;
+  std::unique_ptr<WorkerPool> plan_pool;  // before the planners that use it (destroyed after)
   std::unique_ptr<PathPlanner> planner;
   // The same plan with the cell's rotary external axes (the table) held at home: the first
   // window after an approach is planned both ways and the cheaper kept (plan.cpp).

@@ -2,6 +2,7 @@
 #include "redpost/redundancy/path_plan.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -306,7 +307,9 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
   dp.reach = {settings_.reach, settings_.reach, settings_.reach};
   dp.max_moving = settings_.max_moving;
   dp.beam = beam > 0 ? beam : settings_.beam;
-  std::vector<int> limit_hits(static_cast<std::size_t>(cell.size()), 0);
+  dp.pool = settings_.pool;
+  // Counted from the pool's threads at once.
+  std::vector<std::atomic<int>> limit_hits(static_cast<std::size_t>(cell.size()));
   const auto search = [&](const std::vector<LatticeKey>& first_keys) {
     return lattice_dp(
         static_cast<int>(keyframes.size()), first_keys, dp,
@@ -315,7 +318,8 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
           const bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q,
                                    cost, &limit_joint);
           if (limit_joint >= 0)
-            ++limit_hits[static_cast<std::size_t>(limit_joint)];
+            limit_hits[static_cast<std::size_t>(limit_joint)].fetch_add(1,
+                                                                        std::memory_order_relaxed);
           return ok;
         },
         [&](int layer, const LatticeNode& a, const LatticeNode& b) {

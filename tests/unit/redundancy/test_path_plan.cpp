@@ -132,9 +132,11 @@ struct Toy {
     s.max_moving = max_moving;
     return s;
   }
-  LatticeDpResult dp(int beam) const {
+  LatticeDpResult dp(int beam, WorkerPool* pool = nullptr) const {
+    LatticeDpSettings s = settings(beam);
+    s.pool = pool;
     return lattice_dp(
-        layers, all_keys(), settings(beam),
+        layers, all_keys(), s,
         [&](int layer, const LatticeKey& k, JointVector& q, double& cost) {
           q.setZero(1);
           return node(layer, k, cost);
@@ -251,6 +253,34 @@ TEST_CASE("lattice_dp: a lazy node cost keeps the path and the beam an eager one
   CHECK(compared >= 40);
   // With a narrow beam most nodes are never refined.
   CHECK(refinements < evaluations / 2);
+}
+
+TEST_CASE("lattice_dp: a pool of threads finds the same path, bit for bit", "[path_plan]") {
+  // Larger lattices than the brute force can take: hundreds of nodes per layer, so that every
+  // thread takes its share of each layer.
+  WorkerPool pool(4);
+  REQUIRE(pool.threads() == 4);
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    Toy t;
+    t.seed = seed;
+    t.dims = 3;
+    t.R = 4;
+    t.layers = 12;
+    t.max_moving = seed % 2 == 0 ? 2 : kMaxFreeJoints;
+    INFO("seed " << seed);
+    for (int beam : {0, 24}) {
+      const LatticeDpResult serial = t.dp(beam), threaded = t.dp(beam, &pool);
+      REQUIRE(threaded.feasible == serial.feasible);
+      CHECK(threaded.evaluations == serial.evaluations);
+      CHECK(threaded.dead_layer == serial.dead_layer);
+      if (!serial.feasible)
+        continue;
+      CHECK(threaded.cost == serial.cost);  // the same sums in the same order: exactly equal
+      for (int layer = 0; layer < t.layers; ++layer)
+        CHECK(threaded.path[static_cast<std::size_t>(layer)].key.step ==
+              serial.path[static_cast<std::size_t>(layer)].key.step);
+    }
+  }
 }
 
 TEST_CASE("lattice_dp: a layer no key reaches is reported", "[path_plan]") {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "redpost/kinematics/types.hpp"
+#include "redpost/redundancy/worker_pool.hpp"
 
 namespace redpost {
 
@@ -48,6 +49,10 @@ struct LatticeDpSettings {
   // Free joints that may change together between layers (the rest hold): fewer neighbours per
   // node. The planner lets two of three move at once; a move of all three is two keyframes'.
   int max_moving = kMaxFreeJoints;
+  // Threads that evaluate a layer's nodes together (nullptr: the calling thread alone). The
+  // `evaluate` callback is then called from several threads at once and must only read shared
+  // state; the result is the same either way (each node written by one call).
+  WorkerPool* pool = nullptr;
 };
 
 struct LatticeDpResult {
@@ -60,6 +65,17 @@ struct LatticeDpResult {
 };
 
 namespace detail {
+
+// f(0) ... f(n - 1): on the pool's threads when there is one.
+template <class F>
+void for_each_node(WorkerPool* pool, std::size_t n, const F& f) {
+  if (pool) {
+    pool->for_each(n, f);
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    f(i);
+}
 
 // The candidate keys of a layer, numbered in the order they are first met: an open-addressing
 // table (linear probing, power-of-two size) that keeps its memory from layer to layer, because
@@ -201,13 +217,19 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
   for (int layer = 0; layer < layers; ++layer) {
     std::vector<LatticeNode>& here = kept[static_cast<std::size_t>(layer)];
     if (layer == 0) {
-      for (const LatticeKey& key : first_keys) {
-        LatticeNode n;
-        n.key = key;
-        ++result.evaluations;
-        if (evaluate(0, key, n.q, n.node_cost) && std::isfinite(n.node_cost)) {
-          n.cost = n.node_cost;
-          here.push_back(n);
+      std::vector<LatticeNode> nodes(first_keys.size());
+      valid.assign(first_keys.size(), 0);
+      const auto evaluate_first = [&](std::size_t c) {
+        LatticeNode& n = nodes[c];
+        n.key = first_keys[c];
+        valid[c] = evaluate(0, n.key, n.q, n.node_cost) && std::isfinite(n.node_cost);
+      };
+      result.evaluations += static_cast<long>(first_keys.size());
+      detail::for_each_node(settings.pool, first_keys.size(), evaluate_first);
+      for (std::size_t c = 0; c < nodes.size(); ++c) {
+        if (valid[c]) {
+          nodes[c].cost = nodes[c].node_cost;
+          here.push_back(std::move(nodes[c]));
         }
       }
     } else {
@@ -227,13 +249,14 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
       }
       std::vector<LatticeNode> nodes(candidates.size());
       valid.assign(candidates.size(), 0);
-      for (std::size_t c = 0; c < candidates.size(); ++c) {
+      const auto evaluate_node = [&](std::size_t c) {
         LatticeNode& n = nodes[c];
         n.key = candidates[c];
         n.cost = std::numeric_limits<double>::infinity();
-        ++result.evaluations;
         valid[c] = evaluate(layer, n.key, n.q, n.node_cost) && std::isfinite(n.node_cost);
-      }
+      };
+      result.evaluations += static_cast<long>(candidates.size());
+      detail::for_each_node(settings.pool, candidates.size(), evaluate_node);
       for (const auto& [i, c] : edges) {
         if (!valid[static_cast<std::size_t>(c)])
           continue;

@@ -44,6 +44,9 @@ struct PathPlanSettings {
   // neighbours, 13 % fewer IK solutions with plans as good (docs/redundancy.md).
   int max_moving = 2;
   int beam = 24;  // nodes kept per keyframe
+  // Threads that evaluate a keyframe's lattice nodes together (nullptr: the calling thread
+  // alone); the plan is the same either way. Not owned.
+  WorkerPool* pool = nullptr;
   // The first keyframe of a program (no committed posture): every free joint sampled over its
   // range in this many lattice steps at a time (a coarse first layer).
   int first_layer_stride = 4;
