@@ -105,7 +105,7 @@ proc replay_settings {} {
             base "" tools "" clearance "" rapid_vel 0.25 max_bytes 0 apo 0.5 split 0
             cl_line_every 50 chordal_tol 0.01 msys ignore plan global preset smooth
             keyframe_spacing 20 cutting "" deflection_tol 0.05 fit_tol 0.01 fit_ang_tol 0.1
-            threads 0} {
+            threads 1} {
             variable $name $value
         }
     }

@@ -98,7 +98,7 @@ namespace eval ::redpost_post {
                       -keyframe-spacing [setting keyframe_spacing 20] -lock [setting lock] \
                       -deflection-tol $tol -pipeline [setting pipeline 1] \
                       -fit-tol [setting fit_tol 0.01] -fit-ang-tol [setting fit_ang_tol 0.1] \
-                      -threads [setting threads 0]]
+                      -threads [setting threads 1]]
         # --cutting alone asks for the prediction, --compensate implies it (as in convert).
         set cutting [setting cutting]
         if {[setting compensate 0]} {

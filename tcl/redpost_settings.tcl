@@ -86,8 +86,8 @@ namespace eval ::redpost_settings {
     variable fit_ang_tol 0.1
 
     # Threads that solve the whole-path plan's lattice together (docs/redundancy.md, "Threads"):
-    # 0 one per core (at most 8), 1 one thread. The program is the same for any count. (--threads)
-    variable threads 0
+    # 1 one thread, 0 one per core (at most 8). The program is the same for any count. (--threads)
+    variable threads 1
 
     # Name used in messages and in the program's header. "" : NX's part (mom_part_name).
     variable source ""

@@ -106,8 +106,8 @@ typedef struct rp_options {
   double fit_tolerance_mm;
   double fit_angle_tolerance_deg;
   /* Appended after the point reduction: threads that solve the whole-path plan's lattice
-   * nodes together (docs/redundancy.md, "Threads"). 0 (the default): one per core, at most 8;
-   * 1: the calling thread alone. The program is the same, byte for byte, for any count. */
+   * nodes together (docs/redundancy.md, "Threads"). 1 (the default): the calling thread alone;
+   * 0: one per core, at most 8. The program is the same, byte for byte, for any count. */
   int plan_threads;
 } rp_options;
 

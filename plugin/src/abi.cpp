@@ -184,6 +184,7 @@ RP_API void rp_options_init(rp_options* options) {
   options->deflection_tolerance_mm = 0.05;
   options->fit_tolerance_mm = 0.01;
   options->fit_angle_tolerance_deg = 0.1;
+  options->plan_threads = 1;
   for (double& v : options->lock_value)
     v = std::numeric_limits<double>::quiet_NaN();
 }

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The end-to-end convert benchmark (docs/performance.md, "redpost convert, end to end" and
 # "Threads"): generates 5-axis APT rasters of 100 000 and 1 000 000 poses and converts them on
-# the 9-joint cell with the whole-path plan (on every core, then on one thread) and with
-# --plan local, printing wall time, CPU time (user + system), poses/s and peak RSS of each
+# the 9-joint cell with the whole-path plan (on every core with --threads 0, then on one thread,
+# the default) and with --plan local, printing wall time, CPU time (user + system), poses/s and peak RSS of each
 # whole process (GNU time). In the same run, the KDL pinv_nso tracking loop over 100 500 poses
 # of the same kind of raster (tests/bench/bench_tracker.cpp), and how many times the 100 000-pose
 # convert fits in it (issue 32's target: at least 20x). Memory must not grow with the path.
@@ -33,10 +33,10 @@ fi
 
 for n in $sizes; do
   python3 "$top/tests/bench/make_raster_apt.py" "$n" "$work/raster_$n.apt"
-  for run in "global" "global --threads 1" "local"; do
+  for run in "global --threads 0" "global" "local"; do
     read -r plan threads <<<"$run"
     rm -rf "$work/out" && mkdir -p "$work/out"
-    # shellcheck disable=SC2086  # $threads is "" or "--threads 1"
+    # shellcheck disable=SC2086  # $threads is "" or "--threads 0"
     /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$redpost" convert "$work/raster_$n.apt" \
       --cell "$cell" -o "$work/out" --name RASTER --plan "$plan" $threads -q 2>/dev/null
     read -r wall user sys kib <"$work/time"
@@ -45,7 +45,7 @@ for n in $sizes; do
       -v kdl="$kdl_ms" 'BEGIN {
         printf "%8d poses, %-18s: %6.2f s wall, %6.2f s CPU, %8.0f poses/s, peak RSS %5.1f MB, output %6.1f MB",
                n, r, w, u + s, n / w, k / 1024, o / 1024
-        if (n == 100000 && kdl != "" && r == "global")
+        if (n == 100000 && kdl != "" && r == "global --threads 0")
           printf ", KDL loop / this %.1fx", kdl / 1000 / w
         printf "\n" }'
   done

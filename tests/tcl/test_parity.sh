@@ -82,7 +82,7 @@ case_ ex_pocket_clearance "$ex/pocket_arcs.apt" --clearance 80 --rapid-vel 0.5
 case_ ex_pocket_compensate "$ex/pocket_arcs.apt" --compensate --cutting "$work/cutting.xml"
 case_ ex_pocket_tools "$ex/pocket_arcs.apt" --tools "$work/tools.xml" --split 40
 case_ ex_long_pass_lock "$ex/long_pass.apt" --lock E2 --preset stiff --keyframe-spacing 30
-case_ ex_pocket_threads "$ex/pocket_arcs.apt" --threads 1
+case_ ex_pocket_threads "$ex/pocket_arcs.apt" --threads 0
 case_ ex_surface_bytes "$ex/surface_5axis.cls" --max-bytes 16384 --apo 1 --cl-line-every 10
 # The point reduction (issue 30): off, looser, and a dense raster at a production feed.
 case_ ex_surface_nofit "$ex/surface_5axis.cls" --fit-tol 0

@@ -139,9 +139,10 @@ struct PostOptions {
   PathPlanSettings plan_settings;
   double plan_horizon_mm = 800.0;  // path planned ahead before the first half is written
   double plan_follow_gain = 0.5;   // the tracker's pull towards the plan, per pose
-  // Threads that solve the plan's lattice nodes together (docs/redundancy.md, "Threads"): 0 one
-  // per core (at most 8), 1 the calling thread alone. The program is the same for any count.
-  int plan_threads = 0;
+  // Threads that solve the plan's lattice nodes together (docs/redundancy.md, "Threads"): 1 the
+  // calling thread alone (the default), 0 one per core (at most 8). The program is the same for
+  // any count.
+  int plan_threads = 1;
   // The deflection under the cutting forces (docs/deflection.md): the cell needs six joint
   // stiffnesses; `cutting` gives what the force model needs beyond the CL file, per operation.
   // The tolerance is the one the report draws the normal deflection against (mm).
