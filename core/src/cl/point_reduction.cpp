@@ -92,6 +92,8 @@ LinDeviation lin_deviation(const Eigen::Vector3d& a, const Eigen::Vector3d& a_ax
 PointReducer::PointReducer(const PointReductionOptions& options)
     : o_(options), axis_tolerance_rad_(0.5 * options.axis_tolerance_deg * kPi / 180.0) {
   run_.reserve(static_cast<std::size_t>(std::max(o_.max_points, 2)));
+  run_points_.reserve(run_.capacity());
+  fractions_.reserve(run_.capacity());
   replay_.reserve(run_.capacity());  // the two swap in replay_as_lines
 }
 
@@ -181,19 +183,33 @@ bool PointReducer::covers(const ClEvent& end) const {
   const double sin_axis = std::sin(axis_tolerance_rad_);
   // Most refusals come from the point added last: test it first, and the distances (cheap)
   // before the axes.
-  for (auto it = run_.rbegin(); it != run_.rend(); ++it) {
-    if (!(line.distance2(it->p_mm, line.fraction(it->p_mm)) <= tolerance2))
+  const std::size_t n = run_points_.size();
+  fractions_.resize(n);
+  for (std::size_t k = n; k-- > 0;) {
+    const double t = line.fraction(run_points_[k].p_mm);
+    if (!(line.distance2(run_points_[k].p_mm, t) <= tolerance2))
       return false;
+    fractions_[k] = t;
   }
-  for (auto it = run_.rbegin(); it != run_.rend(); ++it) {
+  for (std::size_t k = n; k-- > 0;) {
     // The angle between two unit vectors within the tolerance (below 90 deg): the sine by the
     // cross product, accurate where the cosine is not.
-    const Eigen::Vector3d g = line.axis_at(line.fraction(it->p_mm));
-    const Eigen::Vector3d p_axis = it->tool_axis.normalized();
+    const Eigen::Vector3d g = line.axis_at(fractions_[k]);
+    const Eigen::Vector3d& p_axis = run_points_[k].axis;
     if (!(g.cross(p_axis).norm() <= sin_axis) || g.dot(p_axis) <= 0.0)
       return false;
   }
   return true;
+}
+
+void PointReducer::run_push(const ClEvent& e) {
+  run_.push_back(e);
+  run_points_.push_back(RunPoint{e.p_mm, e.tool_axis.normalized()});
+}
+
+void PointReducer::run_clear() {
+  run_.clear();
+  run_points_.clear();
 }
 
 bool PointReducer::fits_arc(const ClEvent& end, Eigen::Vector3d& centre,
@@ -248,7 +264,7 @@ void PointReducer::add_point(const ClEvent& e) {
 // One more point for the run: the run goes on as a line or an arc, or ends before the point.
 void PointReducer::extend(const ClEvent& e) {
   if (run_.empty()) {
-    run_.push_back(e);
+    run_push(e);
     return;
   }
   const bool full = static_cast<int>(run_.size()) >= o_.max_points;
@@ -257,7 +273,7 @@ void PointReducer::extend(const ClEvent& e) {
     if (!full && fits_arc(e, centre, normal)) {
       arc_centre_ = centre;
       arc_normal_ = normal;
-      run_.push_back(e);
+      run_push(e);
       return;
     }
     if (static_cast<int>(run_.size()) >= kMinArcPoints) {
@@ -268,25 +284,26 @@ void PointReducer::extend(const ClEvent& e) {
       return;
     }
   } else if (!full && covers(e)) {
-    run_.push_back(e);
+    run_push(e);
     return;
   } else if (!full && o_.arcs && fits_arc(e, centre, normal)) {
     // No line covers the run with e: an arc may (proven once it has kMinArcPoints points).
     arc_ = true;
     arc_centre_ = centre;
     arc_normal_ = normal;
-    run_.push_back(e);
+    run_push(e);
     return;
   } else {
     flush();
   }
-  run_.push_back(e);
+  run_push(e);
 }
 
 void PointReducer::replay_as_lines() {
   arc_ = false;
   replay_.clear();
   replay_.swap(run_);
+  run_points_.clear();
   const bool arcs = o_.arcs;
   o_.arcs = false;
   for (const ClEvent& p : replay_)
@@ -310,7 +327,7 @@ void PointReducer::flush_arc() {
   out_.push_back(std::move(end));
   ++moves_out_;
   ++arcs_out_;
-  run_.clear();
+  run_clear();
   arc_ = false;
 }
 
@@ -331,7 +348,7 @@ void PointReducer::flush() {
   anchor_axis_ = end.tool_axis.normalized();
   out_.push_back(std::move(end));
   ++moves_out_;
-  run_.clear();
+  run_clear();
 }
 
 }  // namespace redpost

@@ -124,23 +124,42 @@ struct KeyframeWalk {
 };
 
 // Walks the buffered calls from index `from` (feeds, rapids, motions) up to a tool change or the
-// end; end_s gets each motion's path length at its end. Returns where the walk stopped.
+// end; b.end_s, end_p and end_z get each motion's path length, CL point and tool axis at its end.
+// Returns where the walk stopped.
 std::size_t walk_calls(const std::deque<ClEvent>& calls, std::size_t from, KeyframeWalk& w,
-                       std::vector<double>& end_s, bool& barrier) {
+                       PlanBatch& b, bool& barrier) {
   for (std::size_t i = from; i < calls.size(); ++i) {
     const ClEvent& e = calls[i];
     if (e.kind == ClEventKind::tool_change) {
       barrier = true;
       return i;
     }
-    if (e.kind == ClEventKind::feed && std::isfinite(e.value) && e.value > 0.0)
+    if (e.kind == ClEventKind::feed && std::isfinite(e.value) && e.value > 0.0) {
       w.feed_mm_s = e.value / 60.0;
-    else if (e.kind == ClEventKind::rapid)
+    } else if (e.kind == ClEventKind::rapid) {
       w.rapid_next = true;
-    else if (is_motion(e))
-      end_s[i] = w.motion(e);
+    } else if (is_motion(e)) {
+      b.end_s[i] = w.motion(e);
+      b.end_p[i] = w.p_cl;
+      b.end_z[i] = w.z_cl;
+    }
   }
   return calls.size();
+}
+
+// The batch's per-call vectors for `n` calls, none a motion's end yet.
+void size_batch(PlanBatch& b, std::size_t n) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  b.end_s.assign(n, nan);
+  b.end_p.assign(n, Eigen::Vector3d::Constant(nan));
+  b.end_z.assign(n, Eigen::Vector3d::Constant(nan));
+}
+
+// The batch keeps its first n calls' entries.
+void keep_first(PlanBatch& b, std::size_t n) {
+  b.end_s.resize(n);
+  b.end_p.resize(n);
+  b.end_z.resize(n);
 }
 
 }  // namespace
@@ -152,7 +171,7 @@ std::size_t walk_calls(const std::deque<ClEvent>& calls, std::size_t from, Keyfr
 constexpr double kFirstWindowHorizons = 3.0;
 
 double PostSession::Impl::window_mm() const {
-  const bool fresh = !started || approach_pending;
+  const bool fresh = !cursor.started || cursor.approach_pending;
   return fresh ? kFirstWindowHorizons * o.plan_horizon_mm : o.plan_horizon_mm;
 }
 
@@ -175,8 +194,7 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
     }
     PathPlanSettings settings = o.plan_settings;
     settings.normal_deflection_mm = nominal_deflection(*active_cell);
-    if (!plan_pool && o.plan_threads != 1)
-      plan_pool = std::make_unique<WorkerPool>(o.plan_threads);
+    // Under threads >= 2 the pool is the pipeline's (session.cpp, pump).
     settings.pool = plan_pool.get();
     planner = std::make_unique<PathPlanner>(*active_cell, *ik, settings);
     planner_cell = active_cell;
@@ -212,13 +230,13 @@ void PostSession::Impl::follow_plan(double s_mm) {
   tracker.follow(interpolate_plan(plan_kf, plan_q, s_mm), o.plan_follow_gain, 0.2);
 }
 
-// Commits the plan's keyframes up to commit_s (at least to the end of the first motion) and
-// returns how many buffered calls that releases: those whose motion ends within the committed
-// plan, and the calls after them up to the next motion that does not.
+// Commits the plan's keyframes up to commit_s (at least to the end of the first motion) into the
+// batch and returns how many buffered calls that releases: those whose motion ends within the
+// committed plan, and the calls after them up to the next motion that does not.
 std::size_t PostSession::Impl::commit_window(const std::vector<PlanKeyframe>& kf,
                                              const std::vector<JointVector>& q,
                                              const std::vector<double>& end_s, std::size_t end,
-                                             double commit_s, bool fresh) {
+                                             double commit_s, bool fresh, PlanBatch& batch) const {
   for (std::size_t k = 0; k < end; ++k) {
     if (!std::isnan(end_s[k])) {
       commit_s = std::max(commit_s, end_s[k]);
@@ -231,15 +249,9 @@ std::size_t PostSession::Impl::commit_window(const std::vector<PlanKeyframe>& kf
   if (kf[committed].s_mm + 1e-9 < commit_s && committed + 1 < kf.size())
     ++committed;  // the first keyframe beyond an end that falls between keyframes
   const double boundary_s = kf[committed].s_mm;
-  // Keep the committed keyframes the released calls still need (from the one before plan_s).
-  std::size_t keep_from = 0;
-  while (keep_from + 1 < plan_kf.size() && plan_kf[keep_from + 1].s_mm <= plan_s)
-    ++keep_from;
-  plan_kf.erase(plan_kf.begin(), plan_kf.begin() + static_cast<std::ptrdiff_t>(keep_from));
-  plan_q.erase(plan_q.begin(), plan_q.begin() + static_cast<std::ptrdiff_t>(keep_from));
   for (std::size_t k = fresh ? 0 : 1; k <= committed; ++k) {
-    plan_kf.push_back(kf[k]);
-    plan_q.push_back(q[k]);
+    batch.kf.push_back(kf[k]);
+    batch.q.push_back(q[k]);
   }
   std::size_t n = 0;
   while (n < end && (std::isnan(end_s[n]) || end_s[n] <= boundary_s + 1e-9))
@@ -247,37 +259,136 @@ std::size_t PostSession::Impl::commit_window(const std::vector<PlanKeyframe>& kf
   return n;
 }
 
-// Plans the next window when the buffer covers it (always with `flush`); returns how many
-// buffered calls to release (0: wait for more), with their path length at the end in
-// dispatch_end_s.
-std::size_t PostSession::Impl::plan_window(bool flush) {
-  dispatch_end_s.clear();
+void PostSession::Impl::apply_plan(const PlanBatch& batch) {
+  summary.plan_windows += batch.windows;
+  summary.plan_ik_evaluations += batch.ik_evaluations;
+  summary.plan_fallback_windows += batch.fallback_windows;
+  for (const std::string& w : batch.warnings)
+    summary.warnings.push_back(w);
+  if (batch.reset) {
+    reset_plan();
+    plan_s = batch.reset_plan_s;
+  }
+  if (batch.kf.empty())
+    return;
+  // Keep the committed keyframes the released calls still need (from the one before plan_s).
+  std::size_t keep_from = 0;
+  while (keep_from + 1 < plan_kf.size() && plan_kf[keep_from + 1].s_mm <= plan_s)
+    ++keep_from;
+  plan_kf.erase(plan_kf.begin(), plan_kf.begin() + static_cast<std::ptrdiff_t>(keep_from));
+  plan_q.erase(plan_q.begin(), plan_q.begin() + static_cast<std::ptrdiff_t>(keep_from));
+  plan_kf.insert(plan_kf.end(), batch.kf.begin(), batch.kf.end());
+  plan_q.insert(plan_q.end(), batch.q.begin(), batch.q.end());
+}
+
+void PostSession::Impl::advance_cursor(const PlanBatch& batch) {
+  PlanCursor& c = cursor;
+  if (batch.reset) {
+    c.plan_empty = true;
+    c.plan_s = batch.reset_plan_s;
+  }
+  if (!batch.kf.empty()) {
+    c.plan_empty = false;
+    c.tail_kf = batch.kf.back();
+    c.tail_q = batch.q.back();
+  }
+  for (std::size_t k = 0; k < batch.calls.size(); ++k) {
+    const ClEvent& e = batch.calls[k];
+    if (e.kind == ClEventKind::feed && std::isfinite(e.value) && e.value > 0.0) {
+      c.feed_mm_per_min = e.value;
+    } else if (e.kind == ClEventKind::rapid) {
+      c.next_rapid = true;
+    } else if (e.kind == ClEventKind::tool_change) {
+      c.approach_pending = c.started;
+      c.sync = true;  // the new tool's cell
+    } else if (is_motion(e)) {
+      c.next_rapid = false;
+      c.started = true;
+      c.approach_pending = false;
+    }
+    if (k < batch.end_s.size() && !std::isnan(batch.end_s[k])) {
+      c.plan_s = batch.end_s[k];
+      c.cl_point = batch.end_p[k];
+      c.cl_axis = batch.end_z[k];
+    }
+  }
+}
+
+namespace {
+
+// Moves the first n buffered calls into the batch.
+void release(std::deque<ClEvent>& deferred, std::size_t n, PlanBatch& batch) {
+  batch.calls.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    batch.calls.push_back(std::move(deferred.front()));
+    deferred.pop_front();
+  }
+  keep_first(batch, n);
+}
+
+// No sequence on the lattice: the stretch up to the keyframe after the dead one is tracked pose
+// by pose (Algorithm 1), which fails with its own message (the CL line, the joint, the advice)
+// where the path is out of reach indeed, and goes on where only the lattice was too coarse; the
+// next window is planned from where the tracker is then.
+void fall_back(const std::vector<PlanKeyframe>& kf, int dead_keyframe, std::size_t end,
+               const std::string& source_name, std::deque<ClEvent>& deferred, PlanBatch& batch) {
+  const int last_kf = static_cast<int>(kf.size()) - 1;
+  const auto dead =
+      static_cast<std::size_t>(std::min(std::max(dead_keyframe + 1, 1), std::max(last_kf, 0)));
+  batch.warnings.push_back(fmt::format(
+      "{}:{}-{}: the whole-path plan found no posture sequence on its lattice here; this "
+      "stretch is tracked pose by pose (docs/redundancy.md)",
+      source_name, kf.front().cl_line, kf[dead].cl_line));
+  ++batch.fallback_windows;
+  batch.reset = true;
+  batch.reset_plan_s = kf.front().s_mm;
+  std::size_t n = 0;
+  bool motion = false;
+  while (n < end &&
+         (std::isnan(batch.end_s[n]) || batch.end_s[n] <= kf[dead].s_mm + 1e-9 || !motion)) {
+    motion = motion || !std::isnan(batch.end_s[n]);
+    ++n;
+  }
+  release(deferred, n, batch);
+}
+
+}  // namespace
+
+bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
+  batch = PlanBatch{};
   // Calls before the first motion go at once; a tool change ends the plan (a new TCP, and an
   // approach from wherever the change leaves the robot).
   std::size_t lead = 0;
   while (lead < deferred.size() && !is_motion(deferred[lead])) {
     if (deferred[lead].kind == ClEventKind::tool_change) {
-      reset_plan();
-      dispatch_end_s.assign(lead + 1, std::numeric_limits<double>::quiet_NaN());
-      return lead + 1;
+      batch.reset = true;
+      size_batch(batch, lead + 1);
+      release(deferred, lead + 1, batch);
+      return true;
     }
     ++lead;
   }
   if (lead > 0) {
-    dispatch_end_s.assign(lead, std::numeric_limits<double>::quiet_NaN());
-    return lead;
+    size_batch(batch, lead);
+    release(deferred, lead, batch);
+    return true;
   }
   if (deferred.empty())
-    return 0;
+    return false;
 
   const PathPlanSettings& ps = o.plan_settings;
-  const bool fresh = !started || approach_pending;
+  const PlanCursor& c = cursor;
+  const bool fresh = !c.started || c.approach_pending;
   // After a stretch tracked pose by pose (no plan held), the next window starts where the
-  // tracker is.
-  const bool from_tracker = !fresh && plan_q.empty();
-  KeyframeWalk w{o, ps.keyframe_spacing_mm, {}, {}, {}, 0.0, 0.0, 0.0, next_rapid};
-  w.feed_mm_s = (std::isnan(feed_mm_per_min) ? o.default_feed_mm_per_min : feed_mm_per_min) / 60.0;
-  std::vector<double> end_s(deferred.size(), std::numeric_limits<double>::quiet_NaN());
+  // tracker is: the tracking must have caught up, as after a tool change (its cell).
+  const bool from_tracker = !fresh && c.plan_empty;
+  if (stage && (c.sync || from_tracker))
+    stage->drain();
+  cursor.sync = false;
+  KeyframeWalk w{o, ps.keyframe_spacing_mm, {}, {}, {}, 0.0, 0.0, 0.0, c.next_rapid};
+  w.feed_mm_s =
+      (std::isnan(c.feed_mm_per_min) ? o.default_feed_mm_per_min : c.feed_mm_per_min) / 60.0;
+  size_batch(batch, deferred.size());
   std::size_t i = 0;
   if (fresh) {
     // The approach goes to the first point: the plan starts there.
@@ -286,32 +397,34 @@ std::size_t PostSession::Impl::plan_window(bool flush) {
     w.z_cl = e0.tool_axis.normalized();
     w.kf.push_back(w.at(w.p_cl, w.z_cl, 0.0, w.feed_mm_s, e0.line));
     w.rapid_next = false;
-    end_s[0] = 0.0;
+    batch.end_s[0] = 0.0;
+    batch.end_p[0] = w.p_cl;
+    batch.end_z[0] = w.z_cl;
     i = 1;
   } else {
-    w.p_cl = last_cl_point;
-    w.z_cl = last_cl_axis;
-    w.s = plan_s;
+    w.p_cl = c.cl_point;
+    w.z_cl = c.cl_axis;
+    w.s = c.plan_s;
     if (from_tracker)
-      w.kf.push_back(w.at(w.p_cl, w.z_cl, plan_s, w.feed_mm_s, deferred[0].line));
+      w.kf.push_back(w.at(w.p_cl, w.z_cl, c.plan_s, w.feed_mm_s, deferred[0].line));
     else
-      w.kf.push_back(plan_kf.back());
+      w.kf.push_back(c.tail_kf);
   }
   w.next_kf_s = w.kf.back().s_mm + ps.keyframe_spacing_mm;
   bool barrier = false;
-  const std::size_t end = walk_calls(deferred, i, w, end_s, barrier);
+  const std::size_t end = walk_calls(deferred, i, w, batch, barrier);
   const double start_s = w.kf.front().s_mm;
   if (!flush && !barrier && w.s - start_s < window_mm() && deferred.size() < kMaxDeferred)
-    return 0;
+    return false;
   // A keyframe at the end of the buffered path, so that the window covers every call in it.
   if (w.s > w.kf.back().s_mm + 1e-6)
     w.kf.push_back(w.at(w.p_cl, w.z_cl, w.s, w.kf.back().speed_mm_s, w.kf.back().cl_line));
 
   const PathPlanner& pl = planner_for_active(w.kf.front().cl_line);
-  const JointVector start_q = fresh ? JointVector() : from_tracker ? tracker.q() : plan_q.back();
+  const JointVector start_q = fresh ? JointVector() : from_tracker ? tracker.q() : c.tail_q;
   PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q);
-  ++summary.plan_windows;
-  summary.plan_ik_evaluations += r.ik_evaluations;
+  ++batch.windows;
+  batch.ik_evaluations += r.ik_evaluations;
   // The first window after an approach picks the branch the rest follows (where the table
   // stands, where the track starts). Its first keyframe's lattice is coarse, and the beam may
   // keep only one family of starts: a tilted 1500 mm pass once went round with the table (72
@@ -320,48 +433,26 @@ std::size_t PostSession::Impl::plan_window(bool flush) {
   // (later windows move those axes freely again).
   if (fresh && planner_held) {
     PlanWindowResult held = planner_held->plan(w.kf, nullptr);
-    summary.plan_ik_evaluations += held.ik_evaluations;
+    batch.ik_evaluations += held.ik_evaluations;
     if (held.feasible && (!r.feasible || held.cost < r.cost))
       r = std::move(held);
   }
   if (!r.feasible) {
     // The beam may have lost the way: search wider once.
     r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam);
-    summary.plan_ik_evaluations += r.ik_evaluations;
+    batch.ik_evaluations += r.ik_evaluations;
   }
   if (!r.feasible) {
-    // No sequence on the lattice: the stretch up to the keyframe after the dead one is tracked
-    // pose by pose (Algorithm 1), which fails with its own message (the CL line, the joint, the
-    // advice) where the path is out of reach indeed, and goes on where only the lattice was too
-    // coarse; the next window is planned from where the tracker is then.
-    const int last_kf = static_cast<int>(w.kf.size()) - 1;
-    const auto dead =
-        static_cast<std::size_t>(std::min(std::max(r.dead_keyframe + 1, 1), std::max(last_kf, 0)));
-    const int first_line = w.kf.front().cl_line;
-    const int dead_line = w.kf[dead].cl_line;
-    summary.warnings.push_back(fmt::format(
-        "{}:{}-{}: the whole-path plan found no posture sequence on its lattice here; this "
-        "stretch is tracked pose by pose (docs/redundancy.md)",
-        o.source_name, first_line, dead_line));
-    ++summary.plan_fallback_windows;
-    reset_plan();
-    plan_s = w.kf.front().s_mm;
-    std::size_t n = 0;
-    bool motion = false;
-    while (n < end && (std::isnan(end_s[n]) || end_s[n] <= w.kf[dead].s_mm + 1e-9 || !motion)) {
-      motion = motion || !std::isnan(end_s[n]);
-      ++n;
-    }
-    dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(n));
-    return n;
+    fall_back(w.kf, r.dead_keyframe, end, o.source_name, deferred, batch);
+    return true;
   }
 
   // Commit 85 % of the window (all of it at the end or before a tool change), and
   // at least up to the end of the first motion.
   const double commit_s = (flush || barrier) ? w.s : start_s + 0.85 * o.plan_horizon_mm;
-  const std::size_t n = commit_window(w.kf, r.q, end_s, end, commit_s, fresh);
-  dispatch_end_s.assign(end_s.begin(), end_s.begin() + static_cast<std::ptrdiff_t>(n));
-  return n;
+  const std::size_t n = commit_window(w.kf, r.q, batch.end_s, end, commit_s, fresh, batch);
+  release(deferred, n, batch);
+  return true;
 }
 
 }  // namespace redpost

@@ -76,10 +76,12 @@ ClExpanderOptions expander_options(const PostOptions& o) {
   return e;
 }
 
+}  // namespace
+
 // The reduction fits arcs where the writer may write a CIRC (each one proven there, circ.cpp):
 // a set with CIRC, and no deflection model (which gives every chord its own load and target).
-PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& writer,
-                                    const KrlTemplateSet& t) {
+PointReductionOptions session_reduction(const PostOptions& o, const KrlWriter& writer,
+                                        const KrlTemplateSet& t) {
   PointReductionOptions r = o.reduction;
   r.arcs = writer.has_circ() && o.deflection == DeflectionMode::off;
   if (point_reduction_problem(r).empty() && r.tolerance_mm > 0.0) {
@@ -90,8 +92,6 @@ PointReductionOptions reduction_for(const PostOptions& o, const KrlWriter& write
     r.tolerance_mm *= kSplineLineShare;
   return r;
 }
-
-}  // namespace
 
 double PostSession::Impl::cl_arc_tolerance_mm() const {
   return reducer.enabled() ? path_budget_mm(o.chordal_tolerance_mm, templates_position_decimals)
@@ -109,7 +109,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
             [this](const std::string& w) { summary.warnings.push_back(w); }),
-      reducer(reduction_for(options, writer, templates)) {
+      reducer(session_reduction(options, writer, templates)) {
   if (const std::string why = point_reduction_problem(o.reduction); !why.empty())
     throw Error(ErrorCode::bad_input, why);
   if (!std::isfinite(o.rapid_velocity_m_per_s) || !(o.rapid_velocity_m_per_s > 0.0) ||
@@ -167,9 +167,22 @@ PostSession::PostSession(const Cell& cell, const KrlTemplateSet& templates,
 
 PostSession::~PostSession() = default;
 
+namespace {
+// True on a thread while it tracks the calls a plan released (the session's own thread in
+// serial, the DispatchStage's thread in the pipeline): those calls are not deferred again.
+thread_local bool t_dispatching = false;
+
+struct DispatchingScope {
+  DispatchingScope() { t_dispatching = true; }
+  ~DispatchingScope() { t_dispatching = false; }
+  DispatchingScope(const DispatchingScope&) = delete;
+  DispatchingScope& operator=(const DispatchingScope&) = delete;
+};
+}  // namespace
+
 bool PostSession::defer(const ClEvent& e) {
   Impl& m = *impl_;
-  if (!m.planning() || m.dispatching)
+  if (!m.planning() || t_dispatching)
     return false;
   // A bad motion is refused by the call that brings it, as without the plan.
   if (e.kind == ClEventKind::move || e.kind == ClEventKind::arc) {
@@ -210,31 +223,45 @@ bool PostSession::defer(const ClEvent& e) {
   return true;
 }
 
+// Tracks and writes the calls of a batch, after what the plan does before them.
+void PostSession::dispatch(PlanBatch& batch) {
+  Impl& m = *impl_;
+  const DispatchingScope scope;
+  m.apply_plan(batch);
+  for (std::size_t k = 0; k < batch.calls.size(); ++k) {
+    route(batch.calls[k]);
+    if (k < batch.end_s.size() && !std::isnan(batch.end_s[k]))
+      m.plan_s = batch.end_s[k];
+  }
+}
+
 void PostSession::pump(bool flush) {
   Impl& m = *impl_;
+  // With two threads or more, the tracking and writing go to a thread of their own, which
+  // shares the plan's lattice nodes whenever it has caught up; the planning threads are the
+  // rest (planner_for_active).
+  if (!m.stage && m.o.plan_threads != 1 && !m.prepared && resolved_threads(m.o.plan_threads) >= 2) {
+    if (!m.plan_pool)
+      m.plan_pool = std::make_unique<WorkerPool>(resolved_threads(m.o.plan_threads) - 1);
+    m.stage = std::make_unique<DispatchStage<PlanBatch>>([this](PlanBatch& b) { dispatch(b); },
+                                                         m.plan_pool.get());
+  }
+  PlanBatch batch;
   while (!m.deferred.empty()) {
-    const std::size_t n = m.plan_window(flush);
-    if (n == 0)
+    if (!m.plan_window(flush, batch))
       return;
-    const std::vector<double> end_s = m.dispatch_end_s;
-    m.dispatching = true;
-    try {
-      for (std::size_t k = 0; k < n; ++k) {
-        const ClEvent e = std::move(m.deferred.front());
-        m.deferred.pop_front();
-        route(e);
-        if (k < end_s.size() && !std::isnan(end_s[k]))
-          m.plan_s = end_s[k];
-      }
-    } catch (...) {
-      m.dispatching = false;
-      throw;
-    }
-    m.dispatching = false;
+    m.advance_cursor(batch);
+    const bool released = !batch.calls.empty();
+    if (m.stage)
+      m.stage->push(std::move(batch));
+    else
+      dispatch(batch);
+    if (!released)
+      return;
     // The estimate again, over what is left.
     m.deferred_length_mm = 0.0;
     m.deferred_barrier = false;
-    m.deferred_tail = m.last_cl_point;
+    m.deferred_tail = m.cursor.cl_point;
     for (const ClEvent& e : m.deferred) {
       if ((e.kind == ClEventKind::move || e.kind == ClEventKind::arc) && e.p_mm.allFinite()) {
         m.deferred_length_mm += (e.p_mm - m.deferred_tail).norm();
@@ -245,14 +272,26 @@ void PostSession::pump(bool flush) {
   }
 }
 
+// Under the pipeline a call may fail here for its own reason while a call released before it
+// fails on the tracking thread: the earlier one is the error, as without the pipeline.
+void PostSession::rethrow_earlier() const {
+  if (impl_->stage && impl_->stage->drain_quietly())
+    impl_->stage->drain();  // throws the tracking thread's error
+}
+
 void PostSession::handle(const ClEvent& event) {
   Impl& m = *impl_;
-  m.front.push(event);
-  ClEvent e, r;
-  while (m.front.next(e)) {
-    m.reducer.push(e);
-    while (m.reducer.next(r))
-      route(r);
+  try {
+    m.front.push(event);
+    ClEvent e, r;
+    while (m.front.next(e)) {
+      m.reducer.push(e);
+      while (m.reducer.next(r))
+        route(r);
+    }
+  } catch (...) {
+    rethrow_earlier();
+    throw;
   }
 }
 
@@ -546,14 +585,23 @@ const PostSummary& PostSession::prepare() {
   Impl& m = *impl_;
   if (m.prepared)
     return m.summary;
-  // The last run of the point reduction.
-  m.reducer.finish();
-  for (ClEvent r; m.reducer.next(r);)
-    route(r);
+  try {
+    // The last run of the point reduction.
+    m.reducer.finish();
+    for (ClEvent r; m.reducer.next(r);)
+      route(r);
+    pump(true);
+    if (m.stage) {
+      m.stage->drain();
+      m.stage.reset();
+    }
+  } catch (...) {
+    rethrow_earlier();
+    throw;
+  }
   m.summary.reducible_points = m.reducer.moves_in();
   m.summary.reduced_moves = m.reducer.moves_out();
   m.summary.reduced_arcs = m.reducer.arcs_out();
-  pump(true);
   if (!m.started) {
     throw Error(ErrorCode::bad_input, "the toolpath has no move: nothing to write",
                 SourceLocation{m.o.source_name, 0, 0});
@@ -587,13 +635,21 @@ const PostSummary& PostSession::finish() {
 }
 
 void PostSession::set_motion_observer(MotionObserver observer) {
+  // The tracking thread of the pipeline calls it: not while it runs.
+  if (impl_->stage)
+    impl_->stage->drain_quietly();
   impl_->o.on_motion = std::move(observer);
 }
 
+// Both wait for the tracking thread of the pipeline (if any) to have caught up.
 const PoseResult& PostSession::last_pose() const {
+  if (impl_->stage)
+    impl_->stage->drain_quietly();
   return impl_->last;
 }
 const PostSummary& PostSession::summary() const {
+  if (impl_->stage)
+    impl_->stage->drain_quietly();
   return impl_->summary;
 }
 const Cell& PostSession::cell() const {

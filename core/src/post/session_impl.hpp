@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "cl/arc_chords.hpp"
+#include "post/dispatch_stage.hpp"
 #include "post/pending_file.hpp"
 #include "redpost/kinematics/arm_ik.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
@@ -52,6 +53,40 @@ bool replay_ends_at(const ArmIk& ik, const JointVector& q_end, const JointVector
                     const char* what, std::string& why);
 
 }  // namespace detail
+
+// What planning a window needs to know of the calls released before it (plan.cpp), kept on the
+// planning side and advanced over every call a window releases (advance_cursor). It is what the
+// tracking of those calls leaves, known without tracking them, so that the next window can be
+// planned while they are still being tracked and written (DispatchStage).
+struct PlanCursor {
+  bool started = false;           // a motion was released
+  bool approach_pending = false;  // a tool change was released since the last motion
+  bool next_rapid = false;        // a RAPID waits for its motion
+  double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();  // the last FEDRAT
+  // The last released motion's end as the plan's walk has it (CL frame, unit axis).
+  Eigen::Vector3d cl_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d cl_axis = Eigen::Vector3d::UnitZ();
+  bool plan_empty = true;  // no committed plan to go on from (start, tool change, fallback)
+  PlanKeyframe tail_kf;    // the last committed keyframe and its posture
+  JointVector tail_q;
+  double plan_s = 0.0;  // path length at the end of the last released motion
+  // The next window needs what only tracking gives (the tracker's posture after a stretch
+  // tracked without the plan, the new tool's cell): the tracking must have caught up.
+  bool sync = false;
+};
+
+// The calls one window releases, and what the plan does to the tracking side before them.
+struct PlanBatch {
+  std::vector<ClEvent> calls;
+  std::vector<double> end_s;  // per call: path length at the end of its motion (NaN: none)
+  std::vector<Eigen::Vector3d> end_p, end_z;  // ... and the walk's CL point and unit tool axis
+  bool reset = false;                         // the plan ends (tool change, fallback) ...
+  double reset_plan_s = 0.0;                  // ... and the path length starts here
+  std::vector<PlanKeyframe> kf;               // keyframes committed, with their postures
+  std::vector<JointVector> q;
+  std::vector<std::string> warnings;
+  long windows = 0, ik_evaluations = 0, fallback_windows = 0;  // for the summary
+};
 
 struct PostSession::Impl {
   const Cell& cell;  // as given, with the chain's TCP
@@ -166,8 +201,7 @@ struct PostSession::Impl {
   Eigen::Vector3d deferred_tail =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   bool deferred_barrier = false;
-  std::vector<double> dispatch_end_s;  // for the events plan_window released: s at their end
-  bool dispatching = false;
+  PlanCursor cursor;
   std::unique_ptr<WorkerPool> plan_pool;  // before the planners that use it (destroyed after)
   std::unique_ptr<PathPlanner> planner;
   // The same plan with the cell's rotary external axes (the table) held at home: the first
@@ -281,13 +315,23 @@ struct PostSession::Impl {
   // The path a window must see before it is planned: three horizons for the first window after
   // an approach (plan.cpp), one after that.
   double window_mm() const;
-  std::size_t plan_window(bool flush);
+  // Plans the next window when the buffer covers it (always with `flush`): moves the calls it
+  // releases into `batch` with what the plan does before them; false: wait for more calls.
+  bool plan_window(bool flush, PlanBatch& batch);
   void follow_plan(double s_mm);
   void reset_plan();
   std::size_t commit_window(const std::vector<PlanKeyframe>& kf, const std::vector<JointVector>& q,
                             const std::vector<double>& end_s, std::size_t end, double commit_s,
-                            bool fresh);
+                            bool fresh, PlanBatch& batch) const;
+  // The cursor over the calls of a batch (on the planning side).
+  void advance_cursor(const PlanBatch& batch);
+  // What the plan does before the batch's calls are tracked (on the tracking side).
+  void apply_plan(const PlanBatch& batch);
   const PathPlanner& planner_for_active(int cl_line);
+
+  // The tracking side's thread under PostOptions::plan_threads >= 2 (session.cpp, pump); the
+  // last member, so that its thread stops before anything it uses goes.
+  std::unique_ptr<DispatchStage<PlanBatch>> stage;
 };
 
 }  // namespace redpost

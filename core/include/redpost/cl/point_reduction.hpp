@@ -114,6 +114,16 @@ class PointReducer {
   PointReductionOptions o_;
   double axis_tolerance_rad_ = 0.0;
   std::vector<ClEvent> run_;  // the points since the anchor; the last is the merged move's end
+  // The same points' positions and unit tool axes, packed: covers() reads them for every point
+  // of the run at every point added.
+  struct RunPoint {
+    Eigen::Vector3d p_mm;
+    Eigen::Vector3d axis;
+  };
+  std::vector<RunPoint> run_points_;
+  mutable std::vector<double> fractions_;  // covers()'s scratch
+  void run_push(const ClEvent& e);
+  void run_clear();
   std::deque<ClEvent> out_;
   bool anchored_ = false;  // the tool's position is known (not at the start, or after a tool
                            // change or an MSYS: the next move is an approach)

@@ -139,9 +139,11 @@ struct PostOptions {
   PathPlanSettings plan_settings;
   double plan_horizon_mm = 800.0;  // path planned ahead before the first half is written
   double plan_follow_gain = 0.5;   // the tracker's pull towards the plan, per pose
-  // Threads that solve the plan's lattice nodes together (docs/redundancy.md, "Threads"): 1 the
-  // calling thread alone (the default), 0 one per core (at most 8). The program is the same for
-  // any count.
+  // Threads of the session under the global plan (docs/redundancy.md, "Threads"): 1 the calling
+  // thread alone (the default); from 2 on, the calling thread plans the next window while one
+  // thread of the session's own tracks and writes the calls the last one released, and from 3
+  // on the lattice's nodes are shared among the planning threads; 0 one per core (at most 8).
+  // The program is the same for any count.
   int plan_threads = 1;
   // The deflection under the cutting forces (docs/deflection.md): the cell needs six joint
   // stiffnesses; `cutting` gives what the force model needs beyond the CL file, per operation.
@@ -153,7 +155,8 @@ struct PostOptions {
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
   std::string joints_csv_path;
-  // Sees every written motion (see MotionSample). Empty: none, at no cost.
+  // Sees every written motion (see MotionSample), in order; under plan_threads >= 2 on the
+  // session's tracking thread (never two calls at once). Empty: none, at no cost.
   MotionObserver on_motion;
 };
 
@@ -246,6 +249,13 @@ struct PostSummary {
   int max_compensation_iterations = 0;  // the most any move needed
 };
 
+struct PlanBatch;  // post/session_impl.hpp
+
+// The point reduction a session runs with these options, writer and template set (the share of
+// the tolerance the printed decimals and a spline's SPL segments leave it).
+PointReductionOptions session_reduction(const PostOptions& o, const KrlWriter& writer,
+                                        const KrlTemplateSet& t);
+
 class PostSession {
  public:
   PostSession(const Cell& cell, const KrlTemplateSet& templates, const PostOptions& options);
@@ -266,7 +276,8 @@ class PostSession {
   // prepare() if not done, then renames the files into place, and returns the summary.
   const PostSummary& finish();
 
-  // Replaces PostOptions::on_motion, for hosts that attach an observer after opening.
+  // Replaces PostOptions::on_motion, for hosts that attach an observer after opening. Under
+  // PostOptions::plan_threads >= 2 the observer is called on the session's tracking thread.
   void set_motion_observer(MotionObserver observer);
 
   const PoseResult& last_pose() const;
@@ -310,6 +321,8 @@ class PostSession {
   // Under PostOptions::plan global: buffers the call (true) and releases what a plan covers.
   bool defer(const ClEvent& event);
   void pump(bool flush);
+  void dispatch(PlanBatch& batch);
+  void rethrow_earlier() const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

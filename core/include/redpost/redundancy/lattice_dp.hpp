@@ -166,20 +166,30 @@ void for_each_neighbour(const LatticeKey& centre, const LatticeDpSettings& s, F&
 // aside), with far fewer refinements where the extra cost is mostly zero.
 template <class Refine>
 void keep_beam_lazy(int layer, std::vector<LatticeNode>& nodes, int beam, Refine& refine,
-                    long& refinements) {
+                    long& refinements, WorkerPool* pool = nullptr) {
   std::vector<int> order(nodes.size());
   for (std::size_t i = 0; i < order.size(); ++i)
     order[i] = static_cast<int>(i);
   const auto cost_of = [&](int i) { return nodes[static_cast<std::size_t>(i)].cost; };
   std::sort(order.begin(), order.end(), [&](int a, int b) { return cost_of(a) < cost_of(b); });
+  // The first `beam` nodes in that order are refined whatever their extra costs (the search
+  // below stops only once `beam` nodes are kept): with a pool, refined together beforehand.
+  const std::size_t ahead =
+      pool ? std::min(order.size(), static_cast<std::size_t>(std::max(beam, 0))) : 0;
+  std::vector<double> extra_ahead(ahead);
+  if (ahead > 0) {
+    for_each_node(pool, ahead, [&](std::size_t r) {
+      extra_ahead[r] = refine(layer, nodes[static_cast<std::size_t>(order[r])]);
+    });
+  }
   std::vector<LatticeNode> kept;
   std::vector<double> worst;  // max-heap of the kept costs, at most `beam` of them
-  for (int i : order) {
-    LatticeNode& n = nodes[static_cast<std::size_t>(i)];
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    LatticeNode& n = nodes[static_cast<std::size_t>(order[r])];
     if (beam > 0 && static_cast<int>(worst.size()) >= beam && worst.front() <= n.cost)
       break;
     ++refinements;
-    const double extra = refine(layer, n);
+    const double extra = r < ahead ? extra_ahead[r] : refine(layer, n);
     if (!(extra >= 0.0) || !std::isfinite(extra))
       continue;
     n.node_cost += extra;
@@ -212,7 +222,8 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
   std::vector<std::vector<LatticeNode>> kept(static_cast<std::size_t>(std::max(layers, 0)));
   detail::KeyTable seen;
   std::vector<LatticeKey> candidates;
-  std::vector<std::pair<int, int>> edges;  // (index in the layer before, candidate)
+  std::vector<std::pair<int, int>> edges;        // (index in the layer before, candidate)
+  std::vector<int> incoming_at, incoming, fill;  // the edges by candidate
   std::vector<char> valid;
   for (int layer = 0; layer < layers; ++layer) {
     std::vector<LatticeNode>& here = kept[static_cast<std::size_t>(layer)];
@@ -247,27 +258,39 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
           edges.emplace_back(static_cast<int>(i), c);
         });
       }
+      // Each candidate's edges in the survivors' order (a stable bucketing of `edges`), so that
+      // a candidate's cheapest parent is found as the plain scan over every edge finds it.
+      incoming_at.assign(candidates.size() + 1, 0);
+      for (const auto& [i, c] : edges)
+        ++incoming_at[static_cast<std::size_t>(c) + 1];
+      for (std::size_t c = 0; c < candidates.size(); ++c)
+        incoming_at[c + 1] += incoming_at[c];
+      incoming.resize(edges.size());
+      fill.assign(incoming_at.begin(), incoming_at.end() - 1);
+      for (const auto& [i, c] : edges)
+        incoming[static_cast<std::size_t>(fill[static_cast<std::size_t>(c)]++)] = i;
       std::vector<LatticeNode> nodes(candidates.size());
       valid.assign(candidates.size(), 0);
+      // A candidate's node and its cheapest way in: independent of every other candidate's.
       const auto evaluate_node = [&](std::size_t c) {
         LatticeNode& n = nodes[c];
         n.key = candidates[c];
         n.cost = std::numeric_limits<double>::infinity();
         valid[c] = evaluate(layer, n.key, n.q, n.node_cost) && std::isfinite(n.node_cost);
+        if (!valid[c])
+          return;
+        for (int e = incoming_at[c]; e < incoming_at[c + 1]; ++e) {
+          const int i = incoming[static_cast<std::size_t>(e)];
+          const LatticeNode& p = before[static_cast<std::size_t>(i)];
+          const double cost = p.cost + edge(layer, p, n);
+          if (cost < n.cost) {
+            n.cost = cost;
+            n.parent = i;
+          }
+        }
       };
       result.evaluations += static_cast<long>(candidates.size());
       detail::for_each_node(settings.pool, candidates.size(), evaluate_node);
-      for (const auto& [i, c] : edges) {
-        if (!valid[static_cast<std::size_t>(c)])
-          continue;
-        LatticeNode& n = nodes[static_cast<std::size_t>(c)];
-        const LatticeNode& p = before[static_cast<std::size_t>(i)];
-        const double cost = p.cost + edge(layer, p, n);
-        if (cost < n.cost) {
-          n.cost = cost;
-          n.parent = i;
-        }
-      }
       here.reserve(candidates.size());
       for (std::size_t c = 0; c < candidates.size(); ++c) {
         LatticeNode& n = nodes[c];
@@ -279,7 +302,7 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
     }
     // The last layer keeps its cheapest node only.
     detail::keep_beam_lazy(layer, here, layer + 1 < layers ? settings.beam : 1, refine,
-                           result.refinements);
+                           result.refinements, settings.pool);
     if (here.empty()) {
       result.dead_layer = layer;
       return result;
