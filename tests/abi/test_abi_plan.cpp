@@ -1,5 +1,6 @@
 // The whole-path plan through the C ABI (docs/redundancy.md, docs/c-abi.md): its defaults, the
-// options refused, and an external axis held at a value, checked on the written program.
+// options refused, an external axis held at a value, checked on the written program, and the
+// same bytes and warnings on several threads (run under ThreadSanitizer in CI).
 #include "catch_compat.hpp"
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "redpost.h"
 #include "temp_dir.hpp"
@@ -153,4 +155,111 @@ TEST_CASE("abi plan: the observer sees the planned posture, rp_timing the plan's
   CHECK(local.planned == 0);
   CHECK(t.plan_windows == 0);
   CHECK(t.plan_ik_evaluations == 0);
+}
+
+namespace {
+
+// Every file of a folder, name and bytes.
+std::string files_in(const std::string& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& f : std::filesystem::directory_iterator(dir))
+    files.push_back(f.path());
+  std::sort(files.begin(), files.end());
+  std::string all;
+  for (const auto& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    all += f.filename().string() + "\n" + s.str();
+  }
+  return all;
+}
+
+// A CL file of the test's own: three tools without a tool table (the tracking side warns), a
+// zigzag each, and a PPRINT every 300 lines (the reading side warns).
+std::string threads_cl(const std::string& dir) {
+  std::ostringstream s;
+  s << "UNITS/MM\nMULTAX/ON\n";
+  int line = 2;
+  for (int tool = 1; tool <= 3; ++tool) {
+    const double y0 = -450.0 - 20.0 * tool;
+    s << "LOADTL/" << tool << "\nSPINDL/9000,RPM,CLW\nRAPID\nGOTO/-100," << y0
+      << ",100,0,0.2,0.9797959\nFEDRAT/MMPM,3000\n";
+    line += 5;
+    for (int l = 0; l < 6; ++l) {
+      for (int k = 0; k < 250; ++k) {
+        if (++line % 300 == 0)
+          s << "PPRINT/ NOTE " << line++ << "\n";
+        const int i = l % 2 == 0 ? k : 249 - k;
+        s << "GOTO/" << (-100.0 + 0.5 * i) << "," << (y0 - 3.0 * l) << ",60,0,0.2,0.9797959\n";
+      }
+    }
+  }
+  const std::string path = dir + "/threads.apt";
+  std::ofstream(path) << s.str();
+  return path;
+}
+
+struct Converted {
+  rp_status status = RP_OK;
+  std::string files;
+  std::vector<std::string> warnings;
+};
+
+Converted convert_threads(const std::string& cl, const std::string& dir, int threads,
+                          int pipeline) {
+  rp_options o = options_for(dir);
+  o.fit_tolerance_mm = 0.01;
+  o.plan_threads = threads;
+  o.pipeline = pipeline;
+  o.source_name = cl.c_str();
+  Converted out;
+  rp_session* s = nullptr;
+  REQUIRE(rp_open(&o, &s) == RP_OK);
+  rp_reader_options ro;
+  rp_reader_options_init(&ro);
+  ro.toolpath_events = 1;
+  rp_reader* r = nullptr;
+  REQUIRE(rp_reader_open_ex(cl.c_str(), &ro, &r) == RP_OK);
+  rp_event e;
+  int more = 1;
+  while (out.status == RP_OK) {
+    out.status = rp_reader_next(r, &e, &more);
+    if (out.status != RP_OK || !more)
+      break;
+    out.status = rp_session_event(s, &e);
+  }
+  if (out.status == RP_OK)
+    out.status = rp_prepare(s);
+  for (int i = 0; rp_warning(s, i) != nullptr; ++i)
+    out.warnings.push_back(rp_warning(s, i));
+  if (out.status == RP_OK)
+    out.status = rp_close(s);
+  rp_reader_free(r);
+  rp_free(s);
+  out.files = files_in(dir);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("abi plan: plan_threads 2 and 3 give the bytes and warnings of one thread", "[abi]") {
+  const std::string cl = threads_cl(redpost::test::fresh_temp_dir("redpost_abi", "threads_cl"));
+  const Converted one =
+      convert_threads(cl, redpost::test::fresh_temp_dir("redpost_abi", "threads_1"), 1, 0);
+  REQUIRE(one.status == RP_OK);
+  CHECK(one.warnings.size() >= 6);  // three tools, PPRINTs
+  for (int threads : {2, 3}) {
+    for (int pipeline = 0; pipeline <= (threads == 2 ? 1 : 0); ++pipeline) {
+      INFO(threads << " threads, pipeline " << pipeline);
+      const Converted many = convert_threads(
+          cl,
+          redpost::test::fresh_temp_dir(
+              "redpost_abi", "threads_" + std::to_string(threads) + "_" + std::to_string(pipeline)),
+          threads, pipeline);
+      CHECK(many.status == RP_OK);
+      CHECK(many.files == one.files);
+      CHECK(many.warnings == one.warnings);
+    }
+  }
 }

@@ -116,8 +116,8 @@ class DispatchStage {
       if (pool_)
         help_until_work(lock);
       work_.wait(lock, [&] { return stop_ || !queue_.empty(); });
-      if (queue_.empty())
-        return;  // stopped
+      if (stop_)
+        return;  // the session goes: what is queued goes with it
       Batch batch = std::move(queue_.front());
       queue_.pop_front();
       queued_.store(queue_.size());

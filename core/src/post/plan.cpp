@@ -263,6 +263,8 @@ void PostSession::Impl::apply_plan(const PlanBatch& batch) {
   summary.plan_windows += batch.windows;
   summary.plan_ik_evaluations += batch.ik_evaluations;
   summary.plan_fallback_windows += batch.fallback_windows;
+  for (const std::string& w : batch.front_warnings)
+    summary.warnings.push_back(w);
   for (const std::string& w : batch.warnings)
     summary.warnings.push_back(w);
   if (batch.reset) {

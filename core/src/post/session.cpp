@@ -108,7 +108,11 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       spin_last(last_pure_spin(c)),
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
-            [this](const std::string& w) { summary.warnings.push_back(w); }),
+            [this](const std::string& w) {
+              // Under the pipeline the summary is the tracking thread's: the warning waits for
+              // the next batch, or for the tracking to catch up (take_front_warnings).
+              (stage ? front_warnings : summary.warnings).push_back(w);
+            }),
       reducer(session_reduction(options, writer, templates)) {
   if (const std::string why = point_reduction_problem(o.reduction); !why.empty())
     throw Error(ErrorCode::bad_input, why);
@@ -252,6 +256,9 @@ void PostSession::pump(bool flush) {
       return;
     m.advance_cursor(batch);
     const bool released = !batch.calls.empty();
+    // What the reading warned of since the last batch comes before it, as in the serial
+    // session, which warned at once.
+    batch.front_warnings.swap(m.front_warnings);
     if (m.stage)
       m.stage->push(std::move(batch));
     else
@@ -595,6 +602,7 @@ const PostSummary& PostSession::prepare() {
       m.stage->drain();
       m.stage.reset();
     }
+    m.take_front_warnings();
   } catch (...) {
     rethrow_earlier();
     throw;
@@ -648,8 +656,8 @@ const PoseResult& PostSession::last_pose() const {
   return impl_->last;
 }
 const PostSummary& PostSession::summary() const {
-  if (impl_->stage)
-    impl_->stage->drain_quietly();
+  if (impl_->stage && !impl_->stage->drain_quietly())
+    impl_->take_front_warnings();
   return impl_->summary;
 }
 const Cell& PostSession::cell() const {

@@ -84,7 +84,8 @@ struct PlanBatch {
   double reset_plan_s = 0.0;                  // ... and the path length starts here
   std::vector<PlanKeyframe> kf;               // keyframes committed, with their postures
   std::vector<JointVector> q;
-  std::vector<std::string> warnings;
+  std::vector<std::string> front_warnings;  // the reading's since the batch before, first
+  std::vector<std::string> warnings;        // the plan's
   long windows = 0, ik_evaluations = 0, fallback_windows = 0;  // for the summary
 };
 
@@ -202,6 +203,14 @@ struct PostSession::Impl {
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   bool deferred_barrier = false;
   PlanCursor cursor;
+  // The expander's warnings while the pipeline runs (its tracking thread owns `summary`): they
+  // go with the next batch, or into the summary once the tracking has caught up.
+  std::vector<std::string> front_warnings;
+  void take_front_warnings() {
+    for (std::string& w : front_warnings)
+      summary.warnings.push_back(std::move(w));
+    front_warnings.clear();
+  }
   std::unique_ptr<WorkerPool> plan_pool;  // before the planners that use it (destroyed after)
   std::unique_ptr<PathPlanner> planner;
   // The same plan with the cell's rotary external axes (the table) held at home: the first

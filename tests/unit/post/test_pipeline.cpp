@@ -64,7 +64,9 @@ Run convert(const std::string& source, int threads, double max_arm_step_deg = 30
   Run out;
   try {
     std::ifstream in = open_text_stream(source);
-    ClReader reader(in, source);
+    ClReaderOptions ro;
+    ro.toolpath_events = true;  // expanded by the session's own expander, as convert does
+    ClReader reader(in, source, ro);
     PostSession session(cell, krl, o);
     ClEvent e;
     while (reader.next(e))
@@ -148,6 +150,35 @@ TEST_CASE("pipeline: windows that fall back to pose by pose wait for the tracker
   REQUIRE(one.error.empty());
   CHECK(one.summary.plan_fallback_windows > 1);
   check_same(one, convert(source, 2, 1e-6));
+}
+
+TEST_CASE("pipeline: the reading's warnings among the tracking's, in the serial order") {
+  // A PPRINT every 500 lines (the expander warns while it reads) and two tool changes without a
+  // tool table (the tracking side warns when it changes the tool).
+  std::string text = "UNITS/MM\nMULTAX/ON\n" + zigzag(1, 14, 400, -450) + zigzag(2, 12, 400, -480) +
+                     zigzag(3, 6, 400, -500);
+  std::istringstream lines(text);
+  std::ostringstream out;
+  std::string l;
+  for (int n = 1; std::getline(lines, l); ++n) {
+    if (n % 500 == 0)
+      out << "PPRINT/ NOTE " << n << "\n";
+    out << l << "\n";
+  }
+  const std::string source = cl_file("notes.apt", out.str());
+  const Run one = convert(source, 1);
+  REQUIRE(one.error.empty());
+  int notes = 0, tools = 0;
+  for (const std::string& w : one.summary.warnings) {
+    notes += w.find("PPRINT/ text") != std::string::npos ? 1 : 0;
+    tools += w.find("no tool table") != std::string::npos ? 1 : 0;
+  }
+  CHECK(notes == 20);  // the expander's cap
+  CHECK(tools >= 2);
+  for (int threads : {2, 3}) {
+    INFO(threads << " threads");
+    check_same(one, convert(source, threads));
+  }
 }
 
 TEST_CASE("pipeline: the error of a call the tracking thread failed comes first, nothing left") {
