@@ -147,9 +147,12 @@ struct Toy {
   }
   // The node cost split in two: `lazy` of every node's cost left to refine (lattice_dp's lazy
   // term), which must not change the path that is found.
-  LatticeDpResult dp_lazy(int beam, double lazy, long* refined = nullptr) const {
+  LatticeDpResult dp_lazy(int beam, double lazy, long* refined = nullptr,
+                          WorkerPool* pool = nullptr) const {
+    LatticeDpSettings s = settings(beam);
+    s.pool = pool;
     const LatticeDpResult r = lattice_dp(
-        layers, all_keys(), settings(beam),
+        layers, all_keys(), s,
         [&](int layer, const LatticeKey& k, JointVector& q, double& cost) {
           q.setZero(1);
           const bool ok = node(layer, k, cost);
@@ -279,6 +282,19 @@ TEST_CASE("lattice_dp: a pool of threads finds the same path, bit for bit", "[pa
       for (int layer = 0; layer < t.layers; ++layer)
         CHECK(threaded.path[static_cast<std::size_t>(layer)].key.step ==
               serial.path[static_cast<std::size_t>(layer)].key.step);
+      // With the lazy term: the pool refines each layer's first `beam` nodes beforehand; the
+      // beam, the path and the count of refinements are the serial search's.
+      long refined_serial = 0, refined_threaded = 0;
+      const LatticeDpResult lazy_serial = t.dp_lazy(beam, 0.3, &refined_serial);
+      const LatticeDpResult lazy_threaded = t.dp_lazy(beam, 0.3, &refined_threaded, &pool);
+      REQUIRE(lazy_threaded.feasible == lazy_serial.feasible);
+      CHECK(refined_threaded == refined_serial);
+      if (!lazy_serial.feasible)
+        continue;
+      CHECK(lazy_threaded.cost == lazy_serial.cost);
+      for (int layer = 0; layer < t.layers; ++layer)
+        CHECK(lazy_threaded.path[static_cast<std::size_t>(layer)].key.step ==
+              lazy_serial.path[static_cast<std::size_t>(layer)].key.step);
     }
   }
 }
