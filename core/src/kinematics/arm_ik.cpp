@@ -10,6 +10,7 @@
 //   orientation                  -> A4, A5, A6 (Z-Y-Z Euler angles about the wrist axes).
 #include "redpost/kinematics/arm_ik.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <string>
 
@@ -179,28 +180,6 @@ void compose_link(const Cell& cell, int i, double q, Eigen::Matrix3d& R, Eigen::
   }
 }
 
-// The links before the arm ({B} -> the frame the A1 link starts from) and after it (the
-// last arm frame -> TCP: fixed frames, the virtual spin), at q_other.
-void links_around_arm(const Cell& cell, const std::array<int, 6>& j, const JointVector& q_other,
-                      Isometry& T_B_pre, Isometry& T_6_tcp) {
-  Eigen::Matrix3d R = cell.T_B_0.linear();
-  Eigen::Vector3d p = cell.T_B_0.translation();
-  for (int i = 0; i < j[0]; ++i)
-    compose_link(cell, i, q_other[i], R, p);
-  T_B_pre = Isometry::Identity();
-  T_B_pre.linear() = R;
-  T_B_pre.translation() = p;
-  R.setIdentity();
-  p.setZero();
-  for (int i = j[5] + 1; i < cell.size(); ++i)
-    compose_link(cell, i, q_other[i], R, p);
-  T_6_tcp = Isometry::Identity();
-  T_6_tcp.linear() = R;
-  T_6_tcp.translation() = p;
-  if (cell.has_tcp_frame)
-    T_6_tcp = T_6_tcp * cell.T_last_tcp;
-}
-
 // A2, A3: the wrist (ux, uy) in the arm plane from the A2 axis, D = l2 + l3 exp(i psi) rotated.
 // psi: the fold at A3; eta: the angle from l2 to the A2 -> wrist line; both for elbow 0 (they
 // change sign with the elbow). False when the wrist is beyond reach (or within the inner dead
@@ -336,6 +315,8 @@ bool round_trip_ok(const Cell& cell, const std::array<int, 6>& j, const Isometry
 }  // namespace
 
 ArmIk::ArmIk(const Cell& cell) : cell_(&cell), status_model_(make_arm_status_model(cell)) {
+  static std::atomic<std::uint64_t> next_instance{1};
+  instance_ = next_instance.fetch_add(1, std::memory_order_relaxed);
   for (int k = 0; k < 6; ++k)
     arm_joints_[static_cast<size_t>(k)] = status_model_.joint_of_axis[k];
   const std::array<int, 6>& j = arm_joints_;
@@ -438,20 +419,55 @@ ArmIk::ArmIk(const Cell& cell) : cell_(&cell), status_model_(make_arm_status_mod
   g_.epsilon6 = w4.dot(w6) > 0.0 ? 1.0 : -1.0;
 }
 
+// The links before the arm ({B} -> the frame the A1 link starts from), at q_other.
+void ArmIk::before_arm(const JointVector& q_other, ArmBefore& around) const {
+  const Cell& cell = *cell_;
+  Eigen::Matrix3d R = cell.T_B_0.linear();
+  Eigen::Vector3d p = cell.T_B_0.translation();
+  for (int i = 0; i < arm_joints_[0]; ++i)
+    compose_link(cell, i, q_other[i], R, p);
+  around.T_B_pre = Isometry::Identity();
+  around.T_B_pre.linear() = R;
+  around.T_B_pre.translation() = p;
+  around.T_C_B = (around.T_B_pre * g_.T_pre_C).inverse(Eigen::Isometry);
+}
+
+// The links after it (the last arm frame -> TCP: fixed frames, the virtual spin), at q_other.
+void ArmIk::after_arm(const JointVector& q_other, ArmAfter& around) const {
+  const Cell& cell = *cell_;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int i = arm_joints_[5] + 1; i < cell.size(); ++i)
+    compose_link(cell, i, q_other[i], R, p);
+  around.T_6_tcp = Isometry::Identity();
+  around.T_6_tcp.linear() = R;
+  around.T_6_tcp.translation() = p;
+  if (cell.has_tcp_frame)
+    around.T_6_tcp = around.T_6_tcp * cell.T_last_tcp;
+  around.T_tcp_C6 = around.T_6_tcp.inverse(Eigen::Isometry) * g_.T_6ref_inv_C;
+}
+
 ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
                             const JointVector* q_near, int only_status) const {
+  ArmBefore before;
+  ArmAfter after;
+  before_arm(q_other, before);
+  after_arm(q_other, after);
+  return solve(T_B_tcp, before, after, q_other, q_near, only_status, RoundTrip::check);
+}
+
+ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const ArmBefore& before, const ArmAfter& after,
+                            const JointVector& q_other, const JointVector* q_near, int only_status,
+                            RoundTrip round_trip) const {
   const Cell& cell = *cell_;
   const Geometry& g = g_;
   const std::array<int, 6>& j = arm_joints_;
   const JointVector& near = q_near != nullptr ? *q_near : g.q_home;
   ArmIkSolutions out;
 
-  Isometry T_B_pre, T_6_tcp;
-  links_around_arm(cell, j, q_other, T_B_pre, T_6_tcp);
   // exp(S1 d1) ... exp(S6 d6) in {C}: T_C_a0 P^-1 T_B_tcp T_6_tcp^-1 M0^-1 T_a0_C, with
   // P = T_B_pre T_pre_a0 the frame a0 at q_other.
-  const Isometry H = (T_B_pre * g.T_pre_C).inverse(Eigen::Isometry) * T_B_tcp *
-                     (T_6_tcp.inverse(Eigen::Isometry) * g.T_6ref_inv_C);
+  const Isometry H = before.T_C_B * T_B_tcp * after.T_tcp_C6;
   const Eigen::Matrix3d R_H = H.linear();
   const Eigen::Vector3d w = R_H * g.wrist_C + H.translation();  // target wrist point in {C}
 
@@ -532,7 +548,9 @@ ArmIkSolutions ArmIk::solve(const Isometry& T_B_tcp, const JointVector& q_other,
           qs[j[static_cast<size_t>(k)]] = qa[k];
         if (!within)
           continue;
-        out.valid[slot] = round_trip_ok(cell, j, T_B_pre, T_6_tcp, T_B_tcp, qa, after_a3);
+        out.valid[slot] =
+            round_trip == RoundTrip::skip ||
+            round_trip_ok(cell, j, before.T_B_pre, after.T_6_tcp, T_B_tcp, qa, after_a3);
       }
     }
   }

@@ -13,6 +13,7 @@
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/jacobian.hpp"
 #include "redpost/kinematics/status_turn.hpp"
+#include "redundancy/surroundings_memo.hpp"
 
 namespace redpost {
 
@@ -138,7 +139,13 @@ bool PathPlanner::evaluate(const Isometry& T_B_tcp, const LatticeKey& key,
       return false;
     q_other[i] = v;
   }
-  const ArmIkSolutions sol = ik_->solve(T_B_tcp, q_other, &q_near, key.posture);
+  // The table, track and spin settings recur across a keyframe's nodes: their links are
+  // composed once per setting and thread. No round trip per node: the closed form is exact
+  // (arm_ik.hpp), and the tracker checks every pose it follows the plan through.
+  thread_local detail::SurroundingsMemo memo;
+  const ArmIkSolutions sol =
+      ik_->solve(T_B_tcp, memo.before(*ik_, q_other), memo.after(*ik_, q_other), q_other, &q_near,
+                 key.posture, RoundTrip::skip);
   const auto mu = static_cast<std::size_t>(key.posture);
   if (!sol.valid[mu]) {
     if (limit_joint && sol.exists[mu]) {

@@ -196,6 +196,73 @@ TEST_CASE("arm_ik: one posture asked is bit for bit that posture of the full sol
   }
 }
 
+TEST_CASE(
+    "arm_ik: surroundings composed beforehand give the same postures, and the round trip "
+    "never fails where a posture exists within the limits",
+    "[arm_ik]") {
+  // The whole-path planner composes the links around the arm once per setting of the table,
+  // track and spin (before_arm, after_arm) and skips the round trip (RoundTrip::skip): the
+  // postures must be bit for bit the plain solve's, and the check must be one that never fails
+  // where it is skipped. Targets: the TCP of random postures (exact), the same moved up to
+  // 300 mm and turned up to 0.5 rad (many postures out of reach), and pushed towards the
+  // boundary of the reach (the closed form's clamp).
+  for (const char* name : test::kShippedCells) {
+    const Cell cell = test::shipped_cell(name);
+    const ArmIk ik(cell);
+    std::mt19937_64 rng(20261205);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int checked = 0, near_reach = 0, differ = 0;
+    for (int n = 0; n < 3000; ++n) {
+      const JointVector q = test::random_posture(cell, rng);
+      Isometry T = tcp_pose(cell, q);
+      if (n % 3 == 1) {
+        T.translation() += 300.0 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+        const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+        T.linear() = T.linear() * Eigen::AngleAxisd(0.5 * u(rng), axis).toRotationMatrix();
+      } else if (n % 3 == 2) {
+        // Along the line from the arm's base to the target, to the last scale at which the
+        // target's own posture exists (bisection to 1e-12 of the scale).
+        KinematicsData data;
+        forward_kinematics(cell, q, data);
+        const Eigen::Vector3d base = data.p_B_joint[static_cast<size_t>(ik.arm_joints()[1])];
+        const int mu = status_turn(cell, ik.status_model(), q).status;
+        const Eigen::Vector3d d = T.translation() - base;
+        double lo = 1.0, hi = 4.0;
+        Isometry Tb = T;
+        for (int it = 0; it < 60; ++it) {
+          const double mid = 0.5 * (lo + hi);
+          Tb.translation() = base + mid * d;
+          (ik.solve(Tb, q, &q).exists[static_cast<size_t>(mu)] ? lo : hi) = mid;
+        }
+        Tb.translation() = base + hi * d;
+        const bool beyond = !ik.solve(Tb, q, &q).exists[static_cast<size_t>(mu)];
+        Tb.translation() = base + lo * d;
+        T = Tb;
+        near_reach += beyond && ik.solve(T, q, &q).exists[static_cast<size_t>(mu)] ? 1 : 0;
+      }
+      ArmBefore before;
+      ArmAfter after;
+      ik.before_arm(q, before);
+      ik.after_arm(q, after);
+      const ArmIkSolutions plain = ik.solve(T, q, &q);
+      const ArmIkSolutions with = ik.solve(T, before, after, q, &q, -1, RoundTrip::check);
+      const ArmIkSolutions skip = ik.solve(T, before, after, q, &q, -1, RoundTrip::skip);
+      for (size_t s = 0; s < 8; ++s) {
+        if (with.exists[s] != plain.exists[s] || with.valid[s] != plain.valid[s] ||
+            skip.exists[s] != plain.exists[s] || skip.valid[s] != plain.valid[s])
+          ++differ;
+        else if (plain.exists[s] && (with.q[s] != plain.q[s] || skip.q[s] != plain.q[s]))
+          ++differ;
+        checked += plain.valid[s] ? 1 : 0;
+      }
+    }
+    INFO(name << ": " << checked << " valid postures, " << near_reach << " targets at the reach");
+    CHECK(checked > 5000);
+    CHECK(near_reach > 500);
+    CHECK(differ == 0);
+  }
+}
+
 TEST_CASE("arm_ik: a folded pose of every shipped cell has eight distinct postures", "[arm_ik]") {
   for (const char* name : test::kShippedCells) {
     const Cell cell = test::shipped_cell(name);

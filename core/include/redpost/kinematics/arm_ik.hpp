@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/status_turn.hpp"
@@ -26,9 +27,26 @@ struct ArmIkSolutions {
   // elbow choice).
   std::array<bool, 8> exists{};
   // It exists, every arm joint is within its limits, and FK(q) reproduces the target (round
-  // trip below 1e-6 mm and 1e-9 rad).
+  // trip below 1e-6 mm and 1e-9 rad; not checked under RoundTrip::skip).
   std::array<bool, 8> valid{};
 };
+
+// The links around the arm at one setting of the joints outside it (q_other): the chain before
+// A1 (ArmBefore, from the joints before it only) and after A6 (ArmAfter). solve() composes them
+// itself; a caller that solves many targets at few settings (the whole-path planner: a
+// keyframe's lattice nodes share a handful of table, track and spin values) composes each once
+// (before_arm, after_arm) and solves with them.
+struct ArmBefore {
+  Isometry T_B_pre = Isometry::Identity();  // {B} <- the frame the A1 link starts from
+  Isometry T_C_B = Isometry::Identity();    // {C} at q_other <- {B}
+};
+struct ArmAfter {
+  Isometry T_6_tcp = Isometry::Identity();   // last arm link frame <- TCP
+  Isometry T_tcp_C6 = Isometry::Identity();  // TCP <- {C} carried by A6 at the reference
+};
+
+// Whether solve() checks each posture by forward kinematics through the cell's own links.
+enum class RoundTrip { check, skip };
 
 // The arm's geometry, extracted from the cell once. Throws Error(bad_input) naming the reason
 // when the cell does not map A1..A6, or its arm is not of this class (axes 4, 5, 6 not meeting
@@ -48,7 +66,22 @@ class ArmIk {
   ArmIkSolutions solve(const Isometry& T_B_tcp, const JointVector& q_other,
                        const JointVector* q_near = nullptr, int only_status = -1) const;
 
+  // The same with the surroundings of q_other composed beforehand (bit for bit the same
+  // solutions). RoundTrip::skip leaves out the forward kinematics check: valid then means the
+  // posture exists and is within the limits. The closed form is exact but for the reach's
+  // clamp (about 1e-7 mm) and the wrist's singular case, where the check never fails
+  // (test_arm_ik compares both ways); a caller that skips it must check the motion itself (the
+  // planner's nodes are followed by the tracker, which checks every pose).
+  ArmIkSolutions solve(const Isometry& T_B_tcp, const ArmBefore& before, const ArmAfter& after,
+                       const JointVector& q_other, const JointVector* q_near, int only_status,
+                       RoundTrip round_trip) const;
+  void before_arm(const JointVector& q_other, ArmBefore& before) const;
+  void after_arm(const JointVector& q_other, ArmAfter& after) const;
+
   const ArmStatusModel& status_model() const { return status_model_; }
+  // Unique to each constructed solver (a copy keeps it: it solves alike), so that a cache of
+  // its results is not taken for another solver's at the same address (surroundings_memo.hpp).
+  std::uint64_t instance() const { return instance_; }
   const std::array<int, 6>& arm_joints() const { return arm_joints_; }  // chain index of A1..A6
 
  private:
@@ -76,6 +109,7 @@ class ArmIk {
   ArmStatusModel status_model_;
   std::array<int, 6> arm_joints_{};
   Geometry g_;
+  std::uint64_t instance_ = 0;
 };
 
 }  // namespace redpost
