@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "commands.hpp"
@@ -383,6 +384,9 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
                                          : RP_PLAN_SMOOTH;
   o.keyframe_spacing_mm = opt.keyframe_spacing_mm;
   o.plan_threads = opt.threads;
+  // With threads to spare the file is read on this thread while the session plans on its own
+  // (rp_options.pipeline), the program the same bytes.
+  o.pipeline = opt.threads >= 2 || (opt.threads == 0 && std::thread::hardware_concurrency() >= 2);
   for (const std::string& l : opt.locks)
     parse_lock(l, o);
   // --cutting alone asks for the prediction: the conditions have no other use.
@@ -425,8 +429,13 @@ int run_convert(const ConvertOptions& opt) {
   long events = 0;
   for (;;) {
     int more = 0;
-    if (const rp_status st = rp_reader_next(h.reader, &event, &more); st != RP_OK)
+    if (const rp_status st = rp_reader_next(h.reader, &event, &more); st != RP_OK) {
+      // An event before the broken line that failed on the session's thread is the error, as
+      // it is without the pipeline.
+      if (const rp_status earlier = rp_sync(h.session); earlier != RP_OK)
+        return report(earlier, without_event_number(rp_last_error(h.session)));
       return report(st, rp_reader_last_error(h.reader));
+    }
     if (!more)
       break;
     if (const rp_status st = rp_session_event(h.session, &event); st != RP_OK)
@@ -453,7 +462,7 @@ int run_convert(const ConvertOptions& opt) {
   // writes it), so that a full disk or a bad report path stops the run with an old program of
   // the name still whole.
   if (const rp_status st = rp_prepare(h.session); st != RP_OK)
-    return report(st, rp_last_error(h.session));
+    return report(st, without_event_number(rp_last_error(h.session)));
   for (int i = 0; const char* w = rp_warning(h.session, i); ++i)
     fmt::print(stderr, "warning: {}\n", w);
   const double seconds =

@@ -270,6 +270,14 @@ RP_API const char* rp_last_error(const rp_session* session);
  * it was sent, so the line may be an earlier event's than the call that failed. */
 RP_API int rp_last_error_line(const rp_session* session);
 
+/* Added in 0.8: waits until every event sent has been tracked (a session opened with
+ * rp_options.pipeline tracks them on its own thread; without it, at once) and returns the status
+ * of an event that failed there, the session then failed with that event's message
+ * (rp_last_error) and line, or RP_OK. A host that stops sending for a reason of its own (its
+ * input is broken further on) calls it to tell an earlier event's failure first, as a session
+ * without the pipeline would have. */
+RP_API rp_status rp_sync(rp_session* session);
+
 RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info);
 RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary);
 /* The range a joint used over the poses tracked so far, as `redpost convert` prints it. */

@@ -419,6 +419,17 @@ RP_API rp_status rp_last_move(const rp_session* session, rp_move_info* info) {
   });
 }
 
+RP_API rp_status rp_sync(rp_session* session) {
+  if (!session)
+    return null_handle("the session");
+  session->sync();
+  if (session->state == rp_session::State::open) {
+    if (const rp_status failed = session->take_pipeline_failure(); failed != RP_OK)
+      return failed;
+  }
+  return RP_OK;
+}
+
 RP_API rp_status rp_summary_get(const rp_session* session, rp_summary* summary) {
   if (!session)
     return null_handle("the session");

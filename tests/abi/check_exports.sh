@@ -12,7 +12,7 @@ if [ -n "$others" ]; then
 fi
 for f in rp_open rp_prepare rp_close rp_remove_temporaries rp_free rp_last_error rp_session_event rp_reader_open rp_circular_move \
          rp_joint_range rp_set_motion_observer rp_cycle_define rp_nurbs_move rp_machine_frame \
-         rp_operator_text rp_warn rp_last_error_line Redpost_Init; do
+         rp_operator_text rp_warn rp_last_error_line rp_sync Redpost_Init; do
   # A here-string, not a pipe: grep -q stops at its match, and under pipefail the echo's SIGPIPE
   # would fail the check.
   grep -qx "$f" <<<"$symbols" || { echo "missing export: $f"; failed=1; }

@@ -263,3 +263,60 @@ TEST_CASE("abi plan: plan_threads 2 and 3 give the bytes and warnings of one thr
     }
   }
 }
+
+TEST_CASE("abi plan: rp_sync tells an event that failed on the pipeline's thread", "[abi]") {
+  // A host that stops sending for a reason of its own (redpost convert at a broken CL line)
+  // must hear of an earlier event's failure first. A pose 5 m out among 600 good ones: the
+  // events after it return at once under the pipeline; rp_sync waits and tells the pose.
+  for (int pipeline : {0, 1}) {
+    INFO("pipeline " << pipeline);
+    const std::string dir =
+        redpost::test::fresh_temp_dir("redpost_abi", "sync_" + std::to_string(pipeline));
+    rp_options o = options_for(dir);
+    o.pipeline = pipeline;
+    rp_session* s = nullptr;
+    REQUIRE(rp_open(&o, &s) == RP_OK);
+    REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
+    REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+    rp_status sent = RP_OK;
+    int failed_at = 0;
+    for (int k = 0; k < 600 && sent == RP_OK; ++k) {
+      REQUIRE(rp_set_line(s, 10 + k) == RP_OK);
+      const double x = k == 300 ? 5000.0 : -100.0 + 0.5 * k;
+      sent = rp_linear_move(s, x, -450.0, 60.0, 0.0, 0.0, 1.0);
+      failed_at = sent == RP_OK ? 0 : k;
+    }
+    CHECK(rp_sync(nullptr) == RP_ERR_NULL);
+    const rp_status synced = rp_sync(s);
+    // Without the pipeline an event fails when it is sent (or a few later under the plan's
+    // windows); with it, at rp_sync at the latest.
+    CHECK((sent != RP_OK || synced != RP_OK));
+    if (sent != RP_OK)
+      CHECK(failed_at >= 300);
+    const std::string message = rp_last_error(s);
+    INFO(message);
+    CHECK(message.find("would have to leave its limits") != std::string::npos);
+    CHECK(message.find(":310: ") != std::string::npos);
+    CHECK(rp_last_error_line(s) == 310);
+    CHECK(rp_close(s) != RP_OK);
+    rp_free(s);
+    CHECK(files_in(dir).empty());
+  }
+}
+
+TEST_CASE("abi plan: rp_sync on a session whose events all went through is RP_OK", "[abi]") {
+  const std::string dir = redpost::test::fresh_temp_dir("redpost_abi", "sync_ok");
+  rp_options o = options_for(dir);
+  o.pipeline = 1;
+  rp_session* s = nullptr;
+  REQUIRE(rp_open(&o, &s) == RP_OK);
+  REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
+  REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+  for (int k = 0; k < 200; ++k)
+    REQUIRE(rp_linear_move(s, -100.0 + 0.5 * k, -450.0, 60.0, 0.0, 0.0, 1.0) == RP_OK);
+  CHECK(rp_sync(s) == RP_OK);
+  CHECK(rp_sync(s) == RP_OK);
+  CHECK(rp_close(s) == RP_OK);
+  rp_free(s);
+  CHECK(files_in(dir).find("PLAN.src") != std::string::npos);
+}

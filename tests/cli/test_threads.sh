@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The whole-path plan's threads change nothing but the time (issue 32): every example and every
 # real CAM file of ../shared/evaldata (when present) converted with one thread and with two (the
-# pipeline: planning here, tracking and writing on the session's thread) gives the same program,
-# byte for byte, and a raster with three too (the lattice's nodes shared as well); a failure on
-# the tracking thread is told as one thread tells it (docs/redundancy.md, "Threads").
+# pipeline: reading here, planning on the session's thread, tracking and writing on one of its
+# own) gives the same program, byte for byte, and a raster with three too (the lattice's nodes
+# shared as well) and under --plan local; a failure on the tracking thread is told as one thread
+# tells it, also before a broken line the reader meets later (docs/redundancy.md, "Threads").
 #
 # Usage: test_threads.sh REDPOST SOURCE_DIR
 . "$(dirname "$0")/harness.sh" cli.threads "$@"
@@ -33,6 +34,17 @@ for f in "${inputs[@]}"; do
 done
 passed
 
+begin "--plan local: one thread and two (the file read on its own thread), the same program"
+for threads in 1 2; do
+  mkdir -p "$TMP/local$threads"
+  run convert "$TMP/raster.apt" --cell "$cell" -o "$TMP/local$threads" --name P -q --plan local \
+    --threads "$threads"
+  expect_rc 0
+done
+diff -r "$TMP/local1" "$TMP/local2" >"$TMP/diff" ||
+  fail "--plan local: the program differs with 2 threads: $(head -5 "$TMP/diff")"
+passed
+
 begin "a pose out of reach: the same message with one thread and two, nothing written"
 # A point 5 m out, in the middle of the raster: found while the plan's windows run ahead.
 awk 'NR == 3000 { print "GOTO/5000.000,0.000,60.000,0.000000,0.000000,1.000000" } { print }' \
@@ -47,6 +59,37 @@ done
 grep -q "far.apt:3000: " "$TMP/far1.err" || fail "the message does not name far.apt:3000: $(cat "$TMP/far1.err")"
 cmp -s "$TMP/far1.err" "$TMP/far2.err" ||
   fail "the messages differ: $(cat "$TMP/far1.err") / $(cat "$TMP/far2.err")"
+passed
+
+begin "a pose out of reach, then a broken line: the pose is the error with one thread and two"
+# With two threads the file is read on its own thread (rp_options.pipeline) and runs ahead of the
+# session: the broken line 1800 lines on is read before the pose is tracked, and must not be
+# told first (rp_sync).
+awk 'NR == 4800 { print "GOTO/1.0,2.0" } { print }' "$TMP/far.apt" >"$TMP/far_broken.apt"
+for threads in 1 2; do
+  mkdir -p "$TMP/farb$threads"
+  run convert "$TMP/far_broken.apt" --cell "$cell" -o "$TMP/farb$threads" --name P -q \
+    --threads "$threads"
+  expect_rc 2
+  cp "$TMP/err" "$TMP/farb$threads.err"
+  [[ -z "$(ls -A "$TMP/farb$threads")" ]] || fail "$threads threads: files left: $(ls "$TMP/farb$threads")"
+done
+grep -q "far_broken.apt:3000: " "$TMP/farb1.err" ||
+  fail "the message does not name far_broken.apt:3000: $(cat "$TMP/farb1.err")"
+cmp -s "$TMP/farb1.err" "$TMP/farb2.err" ||
+  fail "the messages differ: $(cat "$TMP/farb1.err") / $(cat "$TMP/farb2.err")"
+# The broken line alone: the reader's message, the same both ways.
+awk 'NR == 4800 { print "GOTO/1.0,2.0" } { print }' "$TMP/raster.apt" >"$TMP/broken.apt"
+for threads in 1 2; do
+  mkdir -p "$TMP/brk$threads"
+  run convert "$TMP/broken.apt" --cell "$cell" -o "$TMP/brk$threads" --name P -q --threads "$threads"
+  expect_rc 2
+  cp "$TMP/err" "$TMP/brk$threads.err"
+  [[ -z "$(ls -A "$TMP/brk$threads")" ]] || fail "$threads threads: files left: $(ls "$TMP/brk$threads")"
+done
+grep -q "broken.apt:4800" "$TMP/brk1.err" || fail "the message does not name broken.apt:4800: $(cat "$TMP/brk1.err")"
+cmp -s "$TMP/brk1.err" "$TMP/brk2.err" ||
+  fail "the messages differ: $(cat "$TMP/brk1.err") / $(cat "$TMP/brk2.err")"
 passed
 
 begin "--threads out of range"

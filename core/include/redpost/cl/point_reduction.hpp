@@ -113,6 +113,7 @@ class PointReducer {
 
   PointReductionOptions o_;
   double axis_tolerance_rad_ = 0.0;
+  double sin_axis_tolerance_ = 0.0;  // its sine, once (covers() and fits_arc() compare with it)
   std::vector<ClEvent> run_;  // the points since the anchor; the last is the merged move's end
   // The same points' positions and unit tool axes, packed: covers() reads them for every point
   // of the run at every point added.
@@ -121,7 +122,9 @@ class PointReducer {
     Eigen::Vector3d axis;
   };
   std::vector<RunPoint> run_points_;
-  mutable std::vector<double> fractions_;  // covers()'s scratch
+  // covers()'s scratch: each point's fraction along the line, then the tool axis's turn there
+  // and its sine and cosine (taken together for the run).
+  mutable std::vector<double> fractions_, sin_phi_, cos_phi_;
   void run_push(const ClEvent& e);
   void run_clear();
   std::deque<ClEvent> out_;
