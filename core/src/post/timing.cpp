@@ -197,7 +197,9 @@ namespace detail {
 bool replay_sample(const ArmIk& ik, const Isometry& T, const JointVector& q_other, int status,
                    double s, double ds, const char* what, JointVector& q_prev,
                    JointVector& peak_rate, std::string& why) {
-  const ArmIkSolutions sol = ik.solve(T, q_other, &q_prev);
+  // Only the posture kept: the same solution as the full solve's (test_arm_ik), without the
+  // seven others' round trips.
+  const ArmIkSolutions sol = ik.solve(T, q_other, &q_prev, status);
   if (!sol.valid[static_cast<size_t>(status)]) {
     why = fmt::format("at {:.0f} % of the {} the arm cannot keep its posture within the limits",
                       100.0 * s, what);
