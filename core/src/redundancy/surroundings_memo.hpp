@@ -8,6 +8,8 @@
 // depends on are the same bit for bit, so the solutions are the same as without it, on any thread
 // and in any order. One memo per thread (the planner's node loop runs on a pool), direct-mapped: a
 // collision only costs a recompute.
+// The cell must not change while its solver lives, as ArmIk itself assumes (its geometry is
+// taken from the cell once).
 #pragma once
 
 #include <array>
