@@ -270,8 +270,10 @@ struct rp_session {
   rp_session(const rp_session&) = delete;
   rp_session& operator=(const rp_session&) = delete;
   void start_pipeline();
-  // An event into the session: tracked at once, or queued for the pipeline's thread.
+  // An event into the session: tracked at once, or expanded and reduced here and queued for
+  // the pipeline's thread.
   void submit(redpost::ClEvent&& e);
+  std::vector<redpost::PostSession::FrontItem> front_items;  // submit()'s scratch
   // Waits until the pipeline's thread has tracked every event queued (nothing without one).
   void sync() const;
   // A failure of the pipeline's thread, made the session's: its status (RP_OK: none).

@@ -1,7 +1,8 @@
 // The pipeline of a session (rp_options.pipeline): the host's thread makes the events (reads a
-// CL file, runs NX's handlers) while a thread of the session's own tracks them, in order, and
-// writes the program. The events go in batches through a bounded queue, so memory stays flat
-// and the program is the one the same events give without the pipeline, byte for byte.
+// CL file, runs NX's handlers) and expands and reduces them (PostSession::front), while a thread
+// of the session's own plans, tracks and writes what comes out, in order (route_front). The
+// items go in batches through a bounded queue, so memory stays flat and the program is the one
+// the same events give without the pipeline, byte for byte, with the same warnings.
 //
 // An event that fails on the session's thread fails the session; the host's next call (an
 // event, rp_prepare, rp_close) returns that event's status and message, as the event itself
@@ -22,8 +23,8 @@ namespace redpost::abi {
 
 struct Pipeline {
   struct Job {
-    ClEvent event;
-    long index = 0;  // the event's number, for "event N: " in a message
+    redpost::PostSession::FrontItem item;
+    long index = 0;  // the number of the event that gave it, for "event N: " in a message
   };
   static constexpr std::size_t kBatch = 256;      // events per hand-over
   static constexpr std::size_t kMaxBatches = 32;  // queued at most: memory stays flat
@@ -92,7 +93,7 @@ struct Pipeline {
         int error_line = 0;
         const rp_status st = guard(error, "event " + std::to_string(job.index) + ": ", [&] {
           try {
-            session->post->handle(job.event);
+            session->post->route_front(job.item);
           } catch (const Error& e) {
             error_line = e.where().line;
             throw;
@@ -143,9 +144,28 @@ void rp_session::submit(redpost::ClEvent&& e) {
     post->handle(e);
     return;
   }
-  pipeline->open.push_back(Pipeline::Job{std::move(e), events});
-  if (pipeline->open.size() >= Pipeline::kBatch)
-    pipeline->hand_over();
+  Pipeline& p = *pipeline;
+  front_items.clear();
+  const auto queue = [&] {
+    for (redpost::PostSession::FrontItem& item : front_items) {
+      p.open.push_back(Pipeline::Job{std::move(item), events});
+      if (p.open.size() >= Pipeline::kBatch)
+        p.hand_over();
+    }
+  };
+  try {
+    post->front(e, front_items);
+  } catch (...) {
+    // What came before the error is tracked first, as handle() would have; a failure there, or
+    // on the plan's tracking thread, is the error (rethrow_earlier), as without the pipeline.
+    queue();
+    p.wait_idle();
+    if (p.failed_flag.load(std::memory_order_acquire))
+      return;  // the next call (or rp_prepare) tells it
+    post->rethrow_earlier();
+    throw;
+  }
+  queue();
 }
 
 void rp_session::sync() const {

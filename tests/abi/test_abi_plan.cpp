@@ -320,3 +320,47 @@ TEST_CASE("abi plan: rp_sync on a session whose events all went through is RP_OK
   rp_free(s);
   CHECK(files_in(dir).find("PLAN.src") != std::string::npos);
 }
+
+TEST_CASE(
+    "abi plan: under the pipeline an error of the expansion comes at once, after an "
+    "earlier failure of the tracking",
+    "[abi]") {
+  // The expansion (a hole without a cycle) runs on the host's thread and refuses the event
+  // itself; a pose out of reach sent before it, still queued for the session's thread, is the
+  // error all the same, as without the pipeline.
+  for (const bool far_first : {false, true}) {
+    INFO("pose out of reach first: " << far_first);
+    const std::string dir =
+        redpost::test::fresh_temp_dir("redpost_abi", far_first ? "front_after_far" : "front_alone");
+    rp_options o = options_for(dir);
+    o.pipeline = 1;
+    rp_session* s = nullptr;
+    REQUIRE(rp_open(&o, &s) == RP_OK);
+    REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
+    REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+    for (int k = 0; k < 300; ++k) {
+      REQUIRE(rp_set_line(s, 10 + k) == RP_OK);
+      const double x = far_first && k == 100 ? 5000.0 : -100.0 + 0.5 * k;
+      REQUIRE(rp_linear_move(s, x, -450.0, 60.0, 0.0, 0.0, 1.0) == RP_OK);
+    }
+    REQUIRE(rp_set_line(s, 400) == RP_OK);
+    rp_status st = rp_cycle_hole(s, -50.0, -450.0, 60.0, 0.0, 0.0, 1.0);
+    if (!far_first)
+      CHECK(st != RP_OK);  // at once
+    if (st == RP_OK)
+      st = rp_sync(s);
+    CHECK(st != RP_OK);
+    const std::string message = rp_last_error(s);
+    INFO(message);
+    if (far_first) {
+      CHECK(message.find(":110: ") != std::string::npos);
+      CHECK(message.find("would have to leave its limits") != std::string::npos);
+    } else {
+      CHECK(message.find(":400: ") != std::string::npos);
+      CHECK(message.find("no cycle is on") != std::string::npos);
+    }
+    CHECK(rp_close(s) != RP_OK);
+    rp_free(s);
+    CHECK(files_in(dir).empty());
+  }
+}

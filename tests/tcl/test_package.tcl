@@ -473,7 +473,9 @@ check handlers.missing_cell {
 interp delete $nx
 
 # NX's events that redpost refuses (issue 29, "Errors in NX terms"): each stops the post with the
-# event, the operation and the reason, and nothing is written.
+# event, the operation and the reason, and nothing is written. The cycles' errors come from the
+# expansion, which runs on NX's own thread: at the event itself. A motion's come from the
+# session's thread: at a later event.
 set bad_events {
     nan_goto {
         array set mom_mcs_goto {0 -100 1 NaN 2 110}
@@ -492,11 +494,11 @@ set bad_events {
         set mom_cycle_rapid_to 3
         MOM_drill
         MOM_end_of_program
-    } {MOM_drill (reported at MOM_end_of_program) in operation OP1 (event 4 of the run): *:4: CYCLE/DRILL needs FEDTO*}
+    } {MOM_drill in operation OP1 (event 4 of the run): *:4: CYCLE/DRILL needs FEDTO*}
     hole_without_cycle {
         MOM_drill_move
         MOM_end_of_program
-    } {MOM_drill_move (reported at MOM_end_of_program) in operation OP1 (event 4 of the run): *:4: a hole of a drilling cycle,\
+    } {MOM_drill_move in operation OP1 (event 4 of the run): *:4: a hole of a drilling cycle,\
         but no cycle is on*}
     css {
         MOM_spindle_css

@@ -109,6 +109,11 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       templates_position_decimals(templates.position_decimals),
       front(options.source_name, expander_options(options),
             [this](const std::string& w) {
+              // Run apart (PostSession::front): among the items, taken in order.
+              if (front_sink) {
+                front_sink->push_back(PostSession::FrontItem{ClEvent{}, w, true});
+                return;
+              }
               // Under the pipeline the summary is the tracking thread's: the warning waits for
               // the next batch, or for the tracking to catch up (take_front_warnings).
               (stage ? front_warnings : summary.warnings).push_back(w);
@@ -296,6 +301,37 @@ void PostSession::handle(const ClEvent& event) {
       while (m.reducer.next(r))
         route(r);
     }
+  } catch (...) {
+    rethrow_earlier();
+    throw;
+  }
+}
+
+void PostSession::front(const ClEvent& event, std::vector<FrontItem>& out) {
+  Impl& m = *impl_;
+  struct Sink {
+    Impl& m;
+    Sink(Impl& impl, std::vector<FrontItem>& out) : m(impl) { m.front_sink = &out; }
+    ~Sink() { m.front_sink = nullptr; }
+    Sink(const Sink&) = delete;
+    Sink& operator=(const Sink&) = delete;
+  } sink(m, out);
+  m.front.push(event);
+  ClEvent e, r;
+  while (m.front.next(e)) {
+    m.reducer.push(e);
+    while (m.reducer.next(r))
+      out.push_back(FrontItem{std::move(r), {}, false});
+  }
+}
+
+void PostSession::route_front(const FrontItem& item) {
+  Impl& m = *impl_;
+  try {
+    if (item.is_warning)
+      (m.stage ? m.front_warnings : m.summary.warnings).push_back(item.warning);
+    else
+      route(item.event);
   } catch (...) {
     rethrow_earlier();
     throw;

@@ -206,6 +206,8 @@ struct PostSession::Impl {
   // The expander's warnings while the pipeline runs (its tracking thread owns `summary`): they
   // go with the next batch, or into the summary once the tracking has caught up.
   std::vector<std::string> front_warnings;
+  // Where the expansion's warnings go while PostSession::front runs (its caller's thread).
+  std::vector<PostSession::FrontItem>* front_sink = nullptr;
   void take_front_warnings() {
     for (std::string& w : front_warnings)
       summary.warnings.push_back(std::move(w));

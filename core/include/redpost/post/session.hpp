@@ -269,6 +269,25 @@ class PostSession {
   // events later.
   void handle(const ClEvent& event);
 
+  // handle() in two parts, for a host with a thread to spare (the C ABI's pipeline): front() is
+  // the expansion and the point reduction, which depend on nothing the tracking does, and gives
+  // its output in order, the expansion's warnings among the events; route_front() takes each
+  // item on the session's thread. Together they are handle(): the same program, the same
+  // warnings in the same order. front() must not run while route_front() or another call runs
+  // on the same session in the same instant, except route_front() itself. An error of front()
+  // comes before the items it would have given: the host first lets the session's thread take
+  // every item sent, then calls rethrow_earlier(), which throws a tracking thread's failure
+  // (told first, as handle() does), if any.
+  struct FrontItem {
+    ClEvent event;
+    std::string warning;
+    bool is_warning = false;  // a warning of the expansion, in its place among the events
+  };
+  void front(const ClEvent& event, std::vector<FrontItem>& out);
+  void route_front(const FrontItem& item);
+  // Under the global plan with threads: the tracking thread's failure, if one came, thrown.
+  void rethrow_earlier() const;
+
   // Completes the program and the joints log, flushed to the disk but not renamed, and returns
   // the summary (complete but for `files`): every check has run, and a full disk has shown.
   // The host may now write its own files (a report) before the program replaces an old one.
@@ -322,7 +341,6 @@ class PostSession {
   bool defer(const ClEvent& event);
   void pump(bool flush);
   void dispatch(PlanBatch& batch);
-  void rethrow_earlier() const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
