@@ -264,6 +264,22 @@ TEST_CASE("abi plan: plan_threads 2 and 3 give the bytes and warnings of one thr
   }
 }
 
+namespace {
+
+// A session into `dir` (with or without the pipeline) with tool 1 loaded and a feed: ready for
+// moves.
+rp_session* open_for_moves(const std::string& dir, int pipeline) {
+  rp_options o = options_for(dir);
+  o.pipeline = pipeline;
+  rp_session* s = nullptr;
+  REQUIRE(rp_open(&o, &s) == RP_OK);
+  REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
+  REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+  return s;
+}
+
+}  // namespace
+
 TEST_CASE("abi plan: rp_sync tells an event that failed on the pipeline's thread", "[abi]") {
   // A host that stops sending for a reason of its own (redpost convert at a broken CL line)
   // must hear of an earlier event's failure first. A pose 5 m out among 600 good ones: the
@@ -272,12 +288,7 @@ TEST_CASE("abi plan: rp_sync tells an event that failed on the pipeline's thread
     INFO("pipeline " << pipeline);
     const std::string dir =
         redpost::test::fresh_temp_dir("redpost_abi", "sync_" + std::to_string(pipeline));
-    rp_options o = options_for(dir);
-    o.pipeline = pipeline;
-    rp_session* s = nullptr;
-    REQUIRE(rp_open(&o, &s) == RP_OK);
-    REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
-    REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+    rp_session* s = open_for_moves(dir, pipeline);
     rp_status sent = RP_OK;
     int failed_at = 0;
     for (int k = 0; k < 600 && sent == RP_OK; ++k) {
@@ -306,12 +317,7 @@ TEST_CASE("abi plan: rp_sync tells an event that failed on the pipeline's thread
 
 TEST_CASE("abi plan: rp_sync on a session whose events all went through is RP_OK", "[abi]") {
   const std::string dir = redpost::test::fresh_temp_dir("redpost_abi", "sync_ok");
-  rp_options o = options_for(dir);
-  o.pipeline = 1;
-  rp_session* s = nullptr;
-  REQUIRE(rp_open(&o, &s) == RP_OK);
-  REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
-  REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+  rp_session* s = open_for_moves(dir, 1);
   for (int k = 0; k < 200; ++k)
     REQUIRE(rp_linear_move(s, -100.0 + 0.5 * k, -450.0, 60.0, 0.0, 0.0, 1.0) == RP_OK);
   CHECK(rp_sync(s) == RP_OK);
@@ -332,12 +338,7 @@ TEST_CASE(
     INFO("pose out of reach first: " << far_first);
     const std::string dir =
         redpost::test::fresh_temp_dir("redpost_abi", far_first ? "front_after_far" : "front_alone");
-    rp_options o = options_for(dir);
-    o.pipeline = 1;
-    rp_session* s = nullptr;
-    REQUIRE(rp_open(&o, &s) == RP_OK);
-    REQUIRE(rp_tool_change(s, 1, "T1", 10.0, 100.0) == RP_OK);
-    REQUIRE(rp_feed(s, 3000.0) == RP_OK);
+    rp_session* s = open_for_moves(dir, 1);
     for (int k = 0; k < 300; ++k) {
       REQUIRE(rp_set_line(s, 10 + k) == RP_OK);
       const double x = far_first && k == 100 ? 5000.0 : -100.0 + 0.5 * k;
