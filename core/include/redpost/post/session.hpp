@@ -273,11 +273,11 @@ class PostSession {
   // the expansion and the point reduction, which depend on nothing the tracking does, and gives
   // its output in order, the expansion's warnings among the events; route_front() takes each
   // item on the session's thread. Together they are handle(): the same program, the same
-  // warnings in the same order. front() must not run while route_front() or another call runs
-  // on the same session in the same instant, except route_front() itself. An error of front()
-  // comes before the items it would have given: the host first lets the session's thread take
-  // every item sent, then calls rethrow_earlier(), which throws a tracking thread's failure
-  // (told first, as handle() does), if any.
+  // warnings in the same order. front() may run on one thread while route_front() runs on
+  // another; no other call may run on the session meanwhile. When front() throws, `out` holds
+  // what it gave before the error: the host lets the session's thread take those and every item
+  // before them, then calls rethrow_earlier(), which throws a tracking thread's failure (told
+  // first, as handle() does), and only then tells front()'s error.
   struct FrontItem {
     ClEvent event;
     std::string warning;
