@@ -45,20 +45,29 @@ diff -r "$TMP/local1" "$TMP/local2" >"$TMP/diff" ||
   fail "--plan local: the program differs with 2 threads: $(head -5 "$TMP/diff")"
 passed
 
+# Converts INPUT with one thread and two: exit code 2, nothing left in the output folders, the
+# same message both ways, and that message names WHERE (file:line).
+same_failure() {
+  local input=$1 where=$2 tag
+  tag=$(basename "$input" .apt)
+  for threads in 1 2; do
+    mkdir -p "$TMP/$tag$threads"
+    run convert "$input" --cell "$cell" -o "$TMP/$tag$threads" --name P -q --threads "$threads"
+    expect_rc 2
+    cp "$TMP/err" "$TMP/$tag$threads.err"
+    [[ -z "$(ls -A "$TMP/$tag$threads")" ]] ||
+      fail "$tag, $threads threads: files left: $(ls "$TMP/$tag$threads")"
+  done
+  grep -q "$where" "$TMP/${tag}1.err" || fail "the message does not name $where: $(cat "$TMP/${tag}1.err")"
+  cmp -s "$TMP/${tag}1.err" "$TMP/${tag}2.err" ||
+    fail "the messages differ: $(cat "$TMP/${tag}1.err") / $(cat "$TMP/${tag}2.err")"
+}
+
 begin "a pose out of reach: the same message with one thread and two, nothing written"
 # A point 5 m out, in the middle of the raster: found while the plan's windows run ahead.
 awk 'NR == 3000 { print "GOTO/5000.000,0.000,60.000,0.000000,0.000000,1.000000" } { print }' \
   "$TMP/raster.apt" >"$TMP/far.apt"
-for threads in 1 2; do
-  mkdir -p "$TMP/far$threads"
-  run convert "$TMP/far.apt" --cell "$cell" -o "$TMP/far$threads" --name P -q --threads "$threads"
-  expect_rc 2
-  cp "$TMP/err" "$TMP/far$threads.err"
-  [[ -z "$(ls -A "$TMP/far$threads")" ]] || fail "$threads threads: files left: $(ls "$TMP/far$threads")"
-done
-grep -q "far.apt:3000: " "$TMP/far1.err" || fail "the message does not name far.apt:3000: $(cat "$TMP/far1.err")"
-cmp -s "$TMP/far1.err" "$TMP/far2.err" ||
-  fail "the messages differ: $(cat "$TMP/far1.err") / $(cat "$TMP/far2.err")"
+same_failure "$TMP/far.apt" "far.apt:3000: "
 passed
 
 begin "a pose out of reach, then a broken line: the pose is the error with one thread and two"
@@ -66,30 +75,10 @@ begin "a pose out of reach, then a broken line: the pose is the error with one t
 # session: the broken line 1800 lines on is read before the pose is tracked, and must not be
 # told first (rp_sync).
 awk 'NR == 4800 { print "GOTO/1.0,2.0" } { print }' "$TMP/far.apt" >"$TMP/far_broken.apt"
-for threads in 1 2; do
-  mkdir -p "$TMP/farb$threads"
-  run convert "$TMP/far_broken.apt" --cell "$cell" -o "$TMP/farb$threads" --name P -q \
-    --threads "$threads"
-  expect_rc 2
-  cp "$TMP/err" "$TMP/farb$threads.err"
-  [[ -z "$(ls -A "$TMP/farb$threads")" ]] || fail "$threads threads: files left: $(ls "$TMP/farb$threads")"
-done
-grep -q "far_broken.apt:3000: " "$TMP/farb1.err" ||
-  fail "the message does not name far_broken.apt:3000: $(cat "$TMP/farb1.err")"
-cmp -s "$TMP/farb1.err" "$TMP/farb2.err" ||
-  fail "the messages differ: $(cat "$TMP/farb1.err") / $(cat "$TMP/farb2.err")"
+same_failure "$TMP/far_broken.apt" "far_broken.apt:3000: "
 # The broken line alone: the reader's message, the same both ways.
 awk 'NR == 4800 { print "GOTO/1.0,2.0" } { print }' "$TMP/raster.apt" >"$TMP/broken.apt"
-for threads in 1 2; do
-  mkdir -p "$TMP/brk$threads"
-  run convert "$TMP/broken.apt" --cell "$cell" -o "$TMP/brk$threads" --name P -q --threads "$threads"
-  expect_rc 2
-  cp "$TMP/err" "$TMP/brk$threads.err"
-  [[ -z "$(ls -A "$TMP/brk$threads")" ]] || fail "$threads threads: files left: $(ls "$TMP/brk$threads")"
-done
-grep -q "broken.apt:4800" "$TMP/brk1.err" || fail "the message does not name broken.apt:4800: $(cat "$TMP/brk1.err")"
-cmp -s "$TMP/brk1.err" "$TMP/brk2.err" ||
-  fail "the messages differ: $(cat "$TMP/brk1.err") / $(cat "$TMP/brk2.err")"
+same_failure "$TMP/broken.apt" "broken.apt:4800"
 passed
 
 begin "--threads out of range"

@@ -102,7 +102,7 @@ PointReducer::PointReducer(const PointReductionOptions& options)
       sin_axis_tolerance_(std::sin(axis_tolerance_rad_)) {
   run_.reserve(static_cast<std::size_t>(std::max(o_.max_points, 2)));
   run_points_.reserve(run_.capacity());
-  fractions_.reserve(run_.capacity());
+  turns_.reserve(run_.capacity());
   sin_phi_.reserve(run_.capacity());
   cos_phi_.reserve(run_.capacity());
   replay_.reserve(run_.capacity());  // the two swap in replay_as_lines
@@ -195,18 +195,18 @@ bool PointReducer::covers(const ClEvent& end) const {
   // Most refusals come from the point added last: test it first, and the distances (cheap)
   // before the axes.
   const std::size_t n = run_points_.size();
-  fractions_.resize(n);
+  turns_.resize(n);
   for (std::size_t k = n; k-- > 0;) {
     const double t = line.fraction(run_points_[k].p_mm);
     if (!(line.distance2(run_points_[k].p_mm, t) <= tolerance2))
       return false;
-    fractions_[k] = line.turn_at(t);
+    turns_[k] = line.turn_at(t);
   }
   // Every point passed: the axes' turns all needed, two at a time (sincos.hpp; a libm call per
   // point was 7 % of a conversion on one thread).
   sin_phi_.resize(n);
   cos_phi_.resize(n);
-  detail::sincos_batch(fractions_.data(), sin_phi_.data(), cos_phi_.data(), static_cast<int>(n));
+  detail::sincos_batch(turns_.data(), sin_phi_.data(), cos_phi_.data(), static_cast<int>(n));
   for (std::size_t k = n; k-- > 0;) {
     // The angle between two unit vectors within the tolerance (below 90 deg): the sine by the
     // cross product, accurate where the cosine is not.

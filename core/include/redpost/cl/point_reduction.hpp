@@ -122,9 +122,9 @@ class PointReducer {
     Eigen::Vector3d axis;
   };
   std::vector<RunPoint> run_points_;
-  // covers()'s scratch: each point's fraction along the line, then the tool axis's turn there
-  // and its sine and cosine (taken together for the run).
-  mutable std::vector<double> fractions_, sin_phi_, cos_phi_;
+  // covers()'s scratch: the tool axis's turn at each point's place along the line (rad), and its
+  // sine and cosine (taken together for the run).
+  mutable std::vector<double> turns_, sin_phi_, cos_phi_;
   void run_push(const ClEvent& e);
   void run_clear();
   std::deque<ClEvent> out_;
