@@ -64,7 +64,7 @@ printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nSPINDL/RPM,5000000,CLW\nFEDRAT/MMPM,20
 # statement that is not KRL.
 sed 's/^\$ADVANCE = 3$/AN_IDENTIFIER_OF_FORTY_CHARACTERS_LONG_X = 3/' \
   "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/long_name_krl.xml"
-sed 's#<statement name="tool_select">$TOOL = {tool}</statement>#<statement name="tool_select">SELECT TOOL {tool} NOW</statement>#' \
+sed 's#^    $TOOL = {tool}$#    SELECT TOOL {tool} NOW#' \
   "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/bad_statement_krl.xml"
 # Binary garbage: a compressed CL file (a common mistake) and a compressed readings file.
 gzip -c "$SRC/examples/cl/pocket_arcs.apt" >"$GEN/pocket_arcs.apt.gz"

@@ -392,11 +392,13 @@ ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
   for (const XMLElement* t = e->FirstChildElement(); t; t = t->NextSiblingElement()) {
     if (std::string_view(t->Name()) != "tool")
       r.fail(t, std::string("unknown element <") + t->Name() + "> in <tool-table> (known: tool)");
-    r.only_attributes(t, {"number", "data", "length", "name"});
+    r.only_attributes(t, {"number", "data", "load-data", "length", "name"});
     ToolEntry entry;
     entry.line = t->GetLineNum();
     entry.number = whole(r, t, "number", 0, 1000000);
     entry.tool_data = whole(r, t, "data", 1, kMaxToolData);
+    if (t->Attribute("load-data"))
+      entry.load_data = whole(r, t, "load-data", 1, kMaxLoadData);
     r.required(t, "length");
     entry.length_mm = r.length_mm(t, "length", 0.0);
     if (!(entry.length_mm > 0.0) || entry.length_mm > kMaxToolLengthMm)
@@ -417,10 +419,12 @@ ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
 
 // <controller>: the base's kinematic coupling, the tool change routine (docs/cell-format.md).
 ControllerSettings read_controller(const Reader& r, const XMLElement* e, const Cell& cell) {
-  r.only_attributes(e, {"base-data", "tool-change-routine"});
+  r.only_attributes(e, {"base-data", "load-data", "tool-change-routine"});
   ControllerSettings c;
   if (e->Attribute("base-data"))
     c.base_data = whole(r, e, "base-data", 1, 32);
+  if (e->Attribute("load-data"))
+    c.load_data = whole(r, e, "load-data", 1, kMaxLoadData);
   if (const char* routine = e->Attribute("tool-change-routine")) {
     c.tool_change_routine = routine;
     if (!krl_name(c.tool_change_routine)) {
@@ -432,7 +436,7 @@ ControllerSettings read_controller(const Reader& r, const XMLElement* e, const C
     if (std::string_view(k->Name()) != "kinematic")
       r.fail(k,
              std::string("unknown element <") + k->Name() + "> in <controller> (known: kinematic)");
-    r.only_attributes(k, {"axis", "type", "machine-def"});
+    r.only_attributes(k, {"axis", "type", "machine-def", "ex-ax-data"});
     const std::string axis = r.required(k, "axis"), type = r.required(k, "type");
     int joint = -1;
     for (int i = 0; i < cell.size(); ++i) {
@@ -447,11 +451,12 @@ ControllerSettings read_controller(const Reader& r, const XMLElement* e, const C
         r.fail(k, "two base kinematics: the base can turn with one only");
       c.coupled_base_joint = joint;
       c.machine_def = k->Attribute("machine-def") ? whole(r, k, "machine-def", 2, 64) : 2;
+      c.ex_ax_data = k->Attribute("ex-ax-data") ? whole(r, k, "ex-ax-data", 1, 6) : 1;
     } else if (type == "robroot") {
       if (c.robroot_joint >= 0)
         r.fail(k, "two ROBROOT kinematics");
-      if (k->Attribute("machine-def"))
-        r.fail(k, "machine-def belongs to a base kinematic");
+      if (k->Attribute("machine-def") || k->Attribute("ex-ax-data"))
+        r.fail(k, "machine-def and ex-ax-data belong to a base kinematic");
       c.robroot_joint = joint;
     } else {
       r.fail(k, "<kinematic> type \"" + type + "\" is unknown (base or robroot)");

@@ -17,6 +17,7 @@ MotionChecks::MotionChecks(const KrlCheckOptions& options, std::string main_file
     : options_(options), main_file_(std::move(main_file)), rate_(options.motion_rate) {}
 
 void MotionChecks::add(const KrlMotionRecord& m) {
+  first_motion(m);
   first_cartesian_ptp(m);
   if (options_.motion_rate.interpolation_cycle_s > 0.0)
     rate_.add(m);
@@ -28,6 +29,38 @@ std::vector<KrlFinding> MotionChecks::finish() {
   if (options_.motion_rate.interpolation_cycle_s > 0.0)
     motion_rate(rate_.finish());
   return std::move(out_);
+}
+
+// The first motion of a program is the BCO run, from wherever the robot stands: only a PTP to
+// every axis (A1..A6 and, with a cell, each external axis it maps) defines where it goes and
+// how; a CP motion or a partial target leaves the posture or an axis to chance.
+void MotionChecks::first_motion(const KrlMotionRecord& m) {
+  if (motion_seen_)
+    return;
+  motion_seen_ = true;
+  const std::string kw = upper(m.keyword);
+  std::string missing;
+  const auto need = [&](const std::string& axis) {
+    if (!m.target.has(axis))
+      missing += (missing.empty() ? "" : ", ") + axis;
+  };
+  for (int a = 1; a <= 6; ++a)
+    need(fmt::format("A{}", a));
+  for (int i = 0; options_.cell && i < options_.cell->size(); ++i) {
+    const ControllerAxis& axis = options_.cell->joint(i).axis;
+    if (axis.kind == AxisKind::external)
+      need(fmt::format("E{}", axis.number));
+  }
+  const bool ptp = (kw == "PTP" || kw == "SPTP") && !m.relative;
+  if (ptp && missing.empty())
+    return;
+  const std::string what =
+      ptp ? fmt::format("a {} without {}", kw, missing) : fmt::format("a {}", kw);
+  out_.push_back({m.file, m.line,
+                  fmt::format("the program's first motion is {}: the BCO run from wherever the "
+                              "robot stands needs a PTP to a full E6AXIS (A1..A6{}), so that the "
+                              "posture and every axis are defined (docs/krl-diff.md)",
+                              what, options_.cell ? " and every external axis of the cell" : "")});
 }
 
 // S and T on the first Cartesian PTP: without them the controller picks the posture from

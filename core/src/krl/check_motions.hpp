@@ -1,6 +1,7 @@
 // The checks of `redpost check` on a program's motions, a motion at a time (check.cpp reads
-// the program with a KrlMotionSink, so that memory does not grow with it): S/T on the first
-// Cartesian PTP, the axes against the cell's limits, the motion rate (docs/krl-diff.md).
+// the program with a KrlMotionSink, so that memory does not grow with it): the first motion a
+// PTP to a full E6AXIS, S/T on the first Cartesian PTP, the axes against the cell's limits, the
+// motion rate (docs/krl-diff.md).
 #pragma once
 
 #include <set>
@@ -19,6 +20,7 @@ class MotionChecks {
   std::vector<KrlFinding> finish();
 
  private:
+  void first_motion(const KrlMotionRecord& m);
   void first_cartesian_ptp(const KrlMotionRecord& m);
   void motion_rate(KrlMotionRate rate);
   void limits(const KrlMotionRecord& m);
@@ -26,6 +28,7 @@ class MotionChecks {
   const KrlCheckOptions& options_;
   std::string main_file_;
   KrlMotionRateCounter rate_;
+  bool motion_seen_ = false;
   bool ptp_seen_ = false;
   std::set<std::string> unmapped_reported_;
   std::vector<KrlFinding> out_;

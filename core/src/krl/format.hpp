@@ -73,6 +73,8 @@ enum class Ph : std::uint8_t {
   ax,         // CIRC auxiliary point (mm, in $BASE)
   ay,
   az,
+  load_data,   // LOAD_DATA index of the tool's load ($LOAD)
+  ex_ax_data,  // EX_AX_DATA index of a coupled kinematic (KSS 5)
   count_
 };
 

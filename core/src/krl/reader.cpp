@@ -70,12 +70,13 @@ const std::set<std::string>& builtin_calls() {
   return b;
 }
 
-// System variables that only tune motion: set without a warning.
+// System variables that only tune motion, or tell the controller the payload ($LOAD) and the
+// numbers of the frames in force (the pendant's): set without a warning; the path is the same.
 bool quiet_system_variable(const std::string& lhs) {
   static const std::set<std::string> q{
       "$ADVANCE",   "$APO",       "$VEL",       "$ACC",       "$VEL_AXIS",  "$ACC_AXIS",
       "$ORI_TYPE",  "$CIRC_TYPE", "$VEL_EXTAX", "$ACC_EXTAX", "$CIRC_MODE", "$SPL_ORI_JOINT_AUTO",
-      "$GEAR_JERK", "$JERK",      "$ACT_EX_AX"};
+      "$GEAR_JERK", "$JERK",      "$ACT_EX_AX", "$ACT_BASE",  "$ACT_TOOL",  "$LOAD"};
   std::string head = lhs.substr(0, lhs.find_first_of(".["));
   return q.count(head) != 0;
 }

@@ -28,16 +28,18 @@ namespace krl {
 
 namespace {
 constexpr std::array<std::string_view, static_cast<size_t>(Ph::count_)> kPlaceholderNames = {
-    "name",      "program", "base",    "tool",      "apo_mm",    "header_comment",
-    "date",      "body",    "decls",   "frames",    "x",         "y",
-    "z",         "a",       "b",       "c",         "a1",        "a2",
-    "a3",        "a4",      "a5",      "a6",        "e1",        "e2",
-    "e3",        "e4",      "e5",      "e6",        "ext",       "s",
-    "t",         "s_bits",  "t_bits",  "n",         "value",     "vel",
-    "text",      "line",    "number",  "tool_name", "rpm",       "direction",
-    "clockwise", "mode",    "callee",  "machine",   "base_data", "ex_axes",
-    "tool_data", "routine", "seconds", "ax",        "ay",        "az"};
-static_assert(kPlaceholderNames.back() == "az", "one name per placeholder, in the enum's order");
+    "name",      "program",   "base",    "tool",      "apo_mm",    "header_comment",
+    "date",      "body",      "decls",   "frames",    "x",         "y",
+    "z",         "a",         "b",       "c",         "a1",        "a2",
+    "a3",        "a4",        "a5",      "a6",        "e1",        "e2",
+    "e3",        "e4",        "e5",      "e6",        "ext",       "s",
+    "t",         "s_bits",    "t_bits",  "n",         "value",     "vel",
+    "text",      "line",      "number",  "tool_name", "rpm",       "direction",
+    "clockwise", "mode",      "callee",  "machine",   "base_data", "ex_axes",
+    "tool_data", "routine",   "seconds", "ax",        "ay",        "az",
+    "load_data", "ex_ax_data"};
+static_assert(kPlaceholderNames.back() == "ex_ax_data",
+              "one name per placeholder, in the enum's order");
 
 constexpr PhMask kArmAxes =
     bit(Ph::a1) | bit(Ph::a2) | bit(Ph::a3) | bit(Ph::a4) | bit(Ph::a5) | bit(Ph::a6);
@@ -49,7 +51,8 @@ constexpr PhMask kStatusTurn = bit(Ph::s) | bit(Ph::t) | bit(Ph::s_bits) | bit(P
 constexpr PhMask kSkeleton =
     bit(Ph::name) | bit(Ph::program) | bit(Ph::header_comment) | bit(Ph::date);
 constexpr PhMask kProgram = kSkeleton | bit(Ph::base) | bit(Ph::tool) | bit(Ph::apo_mm);
-constexpr PhMask kTool = bit(Ph::number) | bit(Ph::tool_name) | bit(Ph::tool) | bit(Ph::tool_data);
+constexpr PhMask kTool =
+    bit(Ph::number) | bit(Ph::tool_name) | bit(Ph::tool) | bit(Ph::tool_data) | bit(Ph::load_data);
 
 bool is_ident_start(char ch) {
   return ch >= 'a' && ch <= 'z';
@@ -74,6 +77,7 @@ Ph placeholder_from_name(std::string_view name) {
 const std::vector<StatementSpec>& statement_specs() {
   static const std::vector<StatementSpec> specs = {
       {"ptp_axes", kArmAxes | kExternal, StatementUse::always},
+      {"bco_ptp", kArmAxes | kExternal, StatementUse::optional},
       {"rapid", kArmAxes | kCartesian | kStatusTurn, StatementUse::always},
       {"lin", kCartesian, StatementUse::no_spline_only},
       {"ext_axis", bit(Ph::n) | bit(Ph::value), StatementUse::always},
@@ -84,7 +88,9 @@ const std::vector<StatementSpec>& statement_specs() {
       {"tool_change_manual", kTool, StatementUse::optional},
       {"tool_select", kTool, StatementUse::optional},
       {"base_static", bit(Ph::base) | bit(Ph::base_data), StatementUse::optional},
-      {"base_coupled", bit(Ph::base) | bit(Ph::machine) | bit(Ph::ex_axes) | bit(Ph::base_data),
+      {"base_coupled",
+       bit(Ph::base) | bit(Ph::machine) | bit(Ph::ex_ax_data) | bit(Ph::ex_axes) |
+           bit(Ph::base_data),
        StatementUse::optional},
       {"dwell", bit(Ph::seconds), StatementUse::optional},
       {"circ", kCartesian | bit(Ph::ax) | bit(Ph::ay) | bit(Ph::az), StatementUse::optional},

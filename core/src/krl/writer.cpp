@@ -237,6 +237,12 @@ void KrlWriter::Impl::ptp_axes(const AxisValues& axes) {
   put(Stmt::ptp_axes, v);
 }
 
+void KrlWriter::Impl::bco_ptp(const AxisValues& axes) {
+  Values v;
+  v.axes = &axes;
+  put(tpl.has(Stmt::bco_ptp) ? Stmt::bco_ptp : Stmt::ptp_axes, v);
+}
+
 KrlWriter::Impl::Values KrlWriter::Impl::pose_values(const KrlMotion& m) {
   Values v;
   v.axes = &m.axes;
@@ -280,7 +286,7 @@ void KrlWriter::Impl::restate() {
     put(src_out, out_index, tool_state);
   put(src_out, out_index, spindle_state);
   put(src_out, out_index, coolant_state);
-  ptp_axes(last_axes);
+  bco_ptp(last_axes);
   vel_written.clear();  // the part's INI reset $VEL.CP
 }
 
@@ -363,8 +369,9 @@ void KrlWriter::motion(const KrlMotion& m) {
 
   if (!w.have_last) {
     // The first motion of a program is always a full-axis PTP: it fixes the posture, and the
-    // controller's BCO run needs a PTP.
-    w.ptp_axes(m.axes);
+    // controller's BCO run needs a PTP. The robot may stand anywhere: the set's bco_ptp says so
+    // and slows it.
+    w.bco_ptp(m.axes);
   } else {
     switch (m.kind) {
       case KrlMotionKind::ptp_axes:
@@ -445,7 +452,8 @@ void KrlWriter::tool_change(const KrlToolChange& change) {
   const Stmt how =
       manual && w.tpl.has(Stmt::tool_change_manual) ? Stmt::tool_change_manual : Stmt::tool_change;
   w.put(w.src_out, w.out_index, w.render(how, v));
-  w.current_tool = tool;
+  v.load_data = change.load_data > 0 ? change.load_data : change.tool_data;
+  w.current_tool = {tool, change.tool_data, v.load_data};
   if (w.tpl.has(Stmt::tool_select)) {
     w.tool_state = w.render(Stmt::tool_select, v);
     w.put(w.src_out, w.out_index, w.tool_state);

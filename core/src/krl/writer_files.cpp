@@ -140,10 +140,12 @@ size_t KrlWriter::Impl::put_skeleton(std::FILE* f, size_t file_index, const krl:
   return sk.size();
 }
 
-std::string KrlWriter::Impl::frames_text(std::string_view tool) {
+std::string KrlWriter::Impl::frames_text(const ToolInForce& tool) {
   Values v;
   std::string out = render(info.base_coupled ? Stmt::base_coupled : Stmt::base_static, v);
-  v.tool = tool;
+  v.tool = tool.tool;
+  v.tool_data = tool.tool_data;
+  v.load_data = tool.load_data;
   const std::string select = render(Stmt::tool_select, v);
   if (!out.empty() && !select.empty())
     out += '\n';
@@ -254,7 +256,7 @@ void KrlWriter::Impl::promote_first_module() {
   remove_temporary(old_dat.temp);
 
   const long first_header = header_bytes;
-  const std::string tool_now = current_tool;
+  const ToolInForce tool_now = current_tool;
   current_tool = header_tool;  // the part's header sets the tool the program started with
   parts.push_back(fmt::format("{}{}{:03}", info.name, krl::kPartInfix, 1));
   open_module(parts.back());

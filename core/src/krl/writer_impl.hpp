@@ -96,8 +96,13 @@ struct KrlWriter::Impl {
   bool have_last = false;
   AxisValues last_axes;
   int ext_mask = -1;  // external axes (bit n-1 for En) of the first motion
-  // The tool: $TOOL's right-hand side now, and as the current module's header set it.
-  std::string current_tool, header_tool;
+  // The tool: $TOOL's right-hand side and its numbers ($ACT_TOOL, $LOAD) now, and as the
+  // current module's header set them.
+  struct ToolInForce {
+    std::string tool;
+    long tool_data = 0, load_data = 0;
+  };
+  ToolInForce current_tool, header_tool;
   // What a part restates so that it runs alone with the right tool, spindle and coolant.
   std::string tool_state, spindle_state, coolant_state;
   bool src_has_frames = false;  // the src skeleton sets $BASE and $TOOL with {frames}
@@ -114,6 +119,7 @@ struct KrlWriter::Impl {
     double number_value = 0.0;  // vel, rpm, seconds, or an external axis value
     long integer = 0;           // cl line, tool number, axis number
     long tool_data = 0;
+    long load_data = 0;
     double aux[3] = {0, 0, 0};  // CIRC auxiliary point
     std::string_view text, tool_name, direction, clockwise, mode, callee, tool, routine;
   };
@@ -122,7 +128,11 @@ struct KrlWriter::Impl {
   std::string converted;
 
   Impl(const KrlTemplateSet& templates, const KrlProgramInfo& program)
-      : t(templates), info(program), current_tool(program.tool), header_tool(program.tool) {}
+      : t(templates),
+        info(program),
+        current_tool{program.tool, program.tool_data,
+                     program.load_data > 0 ? program.load_data : program.tool_data},
+        header_tool(current_tool) {}
 
   // --- rendering (writer_render.cpp) ---------------------------------------------------------
   std::string context() const;
@@ -153,7 +163,10 @@ struct KrlWriter::Impl {
   void close_module();
   void next_part();
   // $BASE and $TOOL for a {frames} line: base_static or base_coupled, then tool_select.
-  std::string frames_text(std::string_view tool);
+  std::string frames_text(const ToolInForce& tool);
+  // A number of the controller's data ({tool_data}, {load_data}, {base_data}), which a set may
+  // write only where it is one.
+  void data_index(std::string& out, long index, std::string_view what);
   long count_bytes(std::string_view text) const;
   // Starts a new part first if `needed` more bytes would not fit the current .src's budget.
   void ensure_room(long needed);
@@ -171,6 +184,9 @@ struct KrlWriter::Impl {
   void spline_feed_move(const KrlMotion& m);
   void begin_spline();  // $VEL.CP first if it changed, then the block's start
   void ptp_axes(const AxisValues& axes);
+  // A PTP from wherever the robot stands (the program's first motion, a part's start): the
+  // set's bco_ptp, else ptp_axes.
+  void bco_ptp(const AxisValues& axes);
   Values pose_values(const KrlMotion& m);
   void flush_velocity();
   void require_velocity() const;  // a feed move needs a velocity() before it

@@ -56,6 +56,22 @@ void KrlWriter::Impl::number(std::string& out, double v, int decimals, std::stri
   krl::append_fixed(out, v, decimals, what);
 }
 
+// A tool, load or base number: where $TOOL or $BASE is an expression of the user's (--tool,
+// --base) rather than a TOOL_DATA or BASE_DATA entry, there is no number to write, and a wrong
+// one would make the pendant jog in another frame, or the controller model another payload.
+void KrlWriter::Impl::data_index(std::string& out, long index, std::string_view what) {
+  if (index < 1) {
+    const std::string_view option = what == "base" ? "--base" : "--tool";
+    const std::string_view entry = what == "base" ? "BASE_DATA" : "TOOL_DATA";
+    throw Error(ErrorCode::bad_input,
+                fmt::format("{}: the set writes the {} number, but the {} is not a {}[n] entry: "
+                            "give {} {}[n], or take the number out of the set's statement "
+                            "(docs/krl-templates.md, \"Base and tool\")",
+                            context(), what, what == "load" ? "tool" : what, entry, option, entry));
+  }
+  fmt::format_to(std::back_inserter(out), "{}", index);
+}
+
 void KrlWriter::Impl::value(std::string& out, Ph ph, const Values& v) {
   switch (ph) {
     case Ph::x:
@@ -100,6 +116,7 @@ void KrlWriter::Impl::value(std::string& out, Ph ph, const Values& v) {
     case Ph::mode:
     case Ph::callee:
     case Ph::tool_data:
+    case Ph::load_data:
     case Ph::routine:
     case Ph::seconds:
     case Ph::ax:
@@ -118,6 +135,7 @@ void KrlWriter::Impl::value(std::string& out, Ph ph, const Values& v) {
     case Ph::program:
     case Ph::base:
     case Ph::machine:
+    case Ph::ex_ax_data:
     case Ph::base_data:
     case Ph::ex_axes:
     case Ph::apo_mm:
@@ -236,7 +254,10 @@ void KrlWriter::Impl::statement_value(std::string& out, Ph ph, const Values& v) 
       out += v.callee;
       break;
     case Ph::tool_data:
-      fmt::format_to(std::back_inserter(out), "{}", v.tool_data);
+      data_index(out, v.tool_data, "tool");
+      break;
+    case Ph::load_data:
+      data_index(out, v.load_data, "load");
       break;
     case Ph::routine:
       out += v.routine;
@@ -269,7 +290,7 @@ void KrlWriter::Impl::program_value(std::string& out, Ph ph) {
       out += info.base;
       break;
     case Ph::tool:
-      out += header_tool;
+      out += header_tool.tool;
       break;
     case Ph::machine:
       fmt::format_to(std::back_inserter(out), "{}", info.machine_def);
@@ -277,8 +298,11 @@ void KrlWriter::Impl::program_value(std::string& out, Ph ph) {
     case Ph::ex_axes:
       fmt::format_to(std::back_inserter(out), "{}", info.ex_axes);
       break;
+    case Ph::ex_ax_data:
+      fmt::format_to(std::back_inserter(out), "{}", info.ex_ax_data);
+      break;
     case Ph::base_data:
-      fmt::format_to(std::back_inserter(out), "{}", info.base_data);
+      data_index(out, info.base_data, "base");
       break;
     case Ph::apo_mm:
       number(out, info.apo_mm, t.position_decimals, "$APO.CDIS");

@@ -41,6 +41,7 @@ enum class Stmt {
   spline_spl,
   spline_lin_vel,
   spline_spl_vel,
+  bco_ptp,
   count_
 };
 inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
@@ -69,7 +70,8 @@ inline constexpr std::string_view kStmtNames[] = {"ptp_axes",
                                                   "circ",
                                                   "spline_spl",
                                                   "spline_lin_vel",
-                                                  "spline_spl_vel"};
+                                                  "spline_spl_vel",
+                                                  "bco_ptp"};
 static_assert(std::size(kStmtNames) == static_cast<size_t>(Stmt::count_));
 
 constexpr std::string_view stmt_name(Stmt s) {

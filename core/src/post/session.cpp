@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <limits>
 
@@ -38,8 +40,42 @@ double axis_budget_deg(double fit_angle_tolerance_deg, const KrlTemplateSet& t) 
   return std::max(fit_angle_tolerance_deg - printing_deg, 0.1 * fit_angle_tolerance_deg);
 }
 
+// n where `expr` is `array`[n] (blanks allowed around the parts), else 0: the number the
+// controller's $ACT_TOOL / $ACT_BASE give an entry of TOOL_DATA / BASE_DATA.
+int data_entry(std::string_view expr, std::string_view array) {
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t'; };
+  const auto skip = [&](std::size_t& i) {
+    while (i < expr.size() && blank(expr[i]))
+      ++i;
+  };
+  std::size_t i = 0;
+  skip(i);
+  if (expr.size() - i < array.size())
+    return 0;
+  for (std::size_t k = 0; k < array.size(); ++k) {
+    if (std::toupper(static_cast<unsigned char>(expr[i + k])) != array[k])
+      return 0;
+  }
+  i += array.size();
+  skip(i);
+  if (i >= expr.size() || expr[i++] != '[')
+    return 0;
+  skip(i);
+  int n = 0;
+  const auto [end, ec] = std::from_chars(expr.data() + i, expr.data() + expr.size(), n);
+  if (ec != std::errc() || n < 1)
+    return 0;
+  i = static_cast<std::size_t>(end - expr.data());
+  skip(i);
+  if (i >= expr.size() || expr[i++] != ']')
+    return 0;
+  skip(i);
+  return i == expr.size() ? n : 0;
+}
+
 // The writer's program settings that come from the cell: how $BASE is set (a turntable as a
-// mathematically coupled kinematic), the number of external axes, the tool change routine.
+// mathematically coupled kinematic), the number of external axes, the tool change routine, the
+// numbers of the base, the tool and its load.
 KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemplateSet& t) {
   KrlProgramInfo info = o.program;
   // SPL knots in a spline set get most of the fit tolerance; the lines merged before them the
@@ -56,13 +92,16 @@ KrlProgramInfo program_for(const Cell& cell, const PostOptions& o, const KrlTemp
   if (c.coupled_base_joint >= 0) {
     info.base_coupled = true;
     info.machine_def = c.machine_def;
+    info.ex_ax_data = c.ex_ax_data;
   }
   int external = 0;
   for (int i = 0; i < cell.size(); ++i)
     external += cell.joint(i).axis.kind == AxisKind::external;
   info.ex_axes = external;
   info.tool_change_routine = c.tool_change_routine;
-  info.base_data = c.base_data;
+  info.base_data = data_entry(info.base, "BASE_DATA");
+  info.tool_data = data_entry(info.tool, "TOOL_DATA");
+  info.load_data = c.load_data;  // 0: the tool's own number
   return info;
 }
 

@@ -75,6 +75,9 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
         number));
   }
   change.tool = fmt::format("TOOL_DATA[{}]", change.tool_data);
+  // $LOAD: the table's entry for the tool, else the cell's, else (0) the tool's own number.
+  const ToolEntry* entry = table.tools.empty() ? nullptr : table.find(number);
+  change.load_data = entry && entry->load_data > 0 ? entry->load_data : cell.controller.load_data;
 
   // A longer tool would have its tip that much lower where the old one stopped: the old tool
   // first backs off along its axis by the difference (and up to the clearance plane).

@@ -1017,3 +1017,50 @@ TEST_CASE("cell_xml: the shipped cells give every axis a speed") {
   CHECK(cell.joint(1).max_velocity == Approx(1000.0).epsilon(1e-14));
   CHECK(cell.joint(2).max_velocity == Approx(deg(156)).epsilon(1e-14));
 }
+
+// --- <controller> ------------------------------------------------------------------------------
+
+TEST_CASE("cell_xml: <controller> gives the load data and the coupled base's EX_AX_DATA entry") {
+  const std::string path =
+      std::string(REDPOST_SOURCE_DIR) + "/definitions/cells/andres2011_kr15_track_table.xml";
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string controller = R"(<controller base-data="1">)";
+  const std::string base_kinematic = R"(<kinematic axis="E2" type="base" machine-def="2"/>)";
+  REQUIRE(text.find(controller) != std::string::npos);
+  REQUIRE(text.find(base_kinematic) != std::string::npos);
+  const auto edit = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  // The shipped cell: no load given (each tool's own number), ET1.
+  Cell cell = parse_cell(text, "cell.xml");
+  CHECK(cell.controller.load_data == 0);
+  CHECK(cell.controller.ex_ax_data == 1);
+  cell = parse_cell(edit(controller, R"(<controller base-data="3" load-data="5">)"), "cell.xml");
+  CHECK(cell.controller.base_data == 3);
+  CHECK(cell.controller.load_data == 5);
+  cell = parse_cell(
+      edit(base_kinematic, R"(<kinematic axis="E2" type="base" machine-def="4" ex-ax-data="2"/>)"),
+      "cell.xml");
+  CHECK(cell.controller.machine_def == 4);
+  CHECK(cell.controller.ex_ax_data == 2);
+  const auto refused = [&](const std::string& doc, const std::string& words) {
+    try {
+      parse_cell(doc, "cell.xml");
+      FAIL("accepted");
+    } catch (const Error& e) {
+      INFO(e.what());
+      CHECK(e.code() == ErrorCode::bad_input);
+      CHECK(e.where().line > 0);
+      CHECK(e.message().find(words) != std::string::npos);
+    }
+  };
+  refused(edit(controller, R"(<controller load-data="17">)"), "from 1 to 16");
+  refused(edit(base_kinematic, R"(<kinematic axis="E2" type="base" ex-ax-data="7"/>)"),
+          "from 1 to 6");
+  refused(edit(R"(<kinematic axis="E1" type="robroot"/>)",
+               R"(<kinematic axis="E1" type="robroot" ex-ax-data="1"/>)"),
+          "belong to a base kinematic");
+}

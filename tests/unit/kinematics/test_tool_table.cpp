@@ -34,12 +34,14 @@ TEST_CASE("tool_table: a file maps CL tools to TOOL_DATA and lengths", "[tool_ta
   const ToolTable t = parse_tool_table(
       "<tool-table>\n"
       "  <tool number=\"15\" data=\"3\" length=\"69\" name=\"centre drill\"/>\n"
-      "  <tool number=\"16\" data=\"4\" length=\"0.105 m\"/>\n"
+      "  <tool number=\"16\" data=\"4\" load-data=\"12\" length=\"0.105 m\"/>\n"
       "</tool-table>\n",
       "tools.xml");
   REQUIRE(t.tools.size() == 2);
   REQUIRE(t.find(16));
   CHECK(t.find(16)->tool_data == 4);
+  CHECK(t.find(16)->load_data == 12);
+  CHECK(t.find(15)->load_data == 0);  // not given: the cell's, else the tool's own number
   CHECK(t.find(16)->length_mm == Approx(105.0));
   CHECK(t.find(15)->name == "centre drill");
   CHECK(t.find(15)->line == 2);
@@ -56,6 +58,14 @@ TEST_CASE("tool_table: bad entries are refused with file:line", "[tool_table]") 
              "from 1 to 16");
   expect_bad("<tool-table>\n<tool number=\"1.5\" data=\"1\" length=\"50\"/>\n</tool-table>", 2,
              "whole number");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" load-data=\"0\" length=\"50\"/>\n"
+      "</tool-table>",
+      2, "from 1 to 16");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" load-data=\"17\" length=\"50\"/>\n"
+      "</tool-table>",
+      2, "from 1 to 16");
   expect_bad(
       "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\"/>\n"
       "<tool number=\"1\" data=\"2\" length=\"60\"/>\n</tool-table>",

@@ -201,7 +201,8 @@ TEST_CASE("check: S/T on the first Cartesian PTP, cell limits") {
   KrlProgram p;
   KrlMotionRecord axis;
   axis.keyword = "PTP";
-  axis.target.values = {{"A1", 0}, {"A2", -90}, {"A3", 90}, {"A4", 0}, {"A5", 0}, {"A6", 0}};
+  axis.target.values = {{"A1", 0}, {"A2", -90}, {"A3", 90}, {"A4", 0},
+                        {"A5", 0}, {"A6", 0},   {"E1", 0},  {"E2", 0}};
   axis.file = "P.src";
   axis.line = 5;
   KrlMotionRecord cart;
@@ -249,6 +250,81 @@ TEST_CASE("check: S/T on the first Cartesian PTP, cell limits") {
   REQUIRE(f.size() == 1);
   CHECK(f[0].line == 5);
   CHECK(f[0].message.find("E3 is 250, but the cell") == 0);
+}
+
+TEST_CASE("check: the first motion must be a PTP to a full E6AXIS (the BCO run)") {
+  const Cell cell = load_cell(std::string(REDPOST_SOURCE_DIR) +
+                              "/definitions/cells/andres2011_kr15_track_table.xml");
+  KrlCheckOptions with_cell;
+  with_cell.cell = &cell;
+  KrlMotionRecord full;
+  full.keyword = "PTP";
+  full.target.type = "E6AXIS";
+  full.target.values = {{"A1", 0}, {"A2", -90}, {"A3", 90}, {"A4", 0},
+                        {"A5", 0}, {"A6", 0},   {"E1", 0},  {"E2", 0}};
+  full.file = "P.src";
+  full.line = 4;
+  KrlMotionRecord lin;
+  lin.keyword = "LIN";
+  lin.target.values = {{"X", 1}, {"Y", 2}, {"Z", 3}, {"A", 0}, {"B", 0}, {"C", 0}};
+  lin.file = "P.src";
+  lin.line = 5;
+  const auto findings = [&](std::vector<KrlMotionRecord> motions, const KrlCheckOptions& o) {
+    KrlProgram p;
+    p.motions = std::move(motions);
+    return lines_with(check_krl_motions(p, o), "the program's first motion is");
+  };
+  // A full E6AXIS first, with or without the cell; what follows is not the BCO run.
+  CHECK(findings({full, lin}, with_cell).empty());
+  CHECK(findings({full, lin}, KrlCheckOptions{}).empty());
+  // A CP motion first: at its line, whatever comes after.
+  CHECK(findings({lin, full}, KrlCheckOptions{}) == std::vector<int>{5});
+  KrlMotionRecord slin = lin;
+  slin.keyword = "SLIN";
+  CHECK(findings({slin}, KrlCheckOptions{}) == std::vector<int>{5});
+  // A relative PTP, a Cartesian PTP (even with S and T), a PTP without A4.
+  KrlMotionRecord rel = full;
+  rel.keyword = "PTP_REL";
+  rel.relative = true;
+  CHECK(findings({rel}, KrlCheckOptions{}) == std::vector<int>{4});
+  KrlMotionRecord cart = lin;
+  cart.keyword = "PTP";
+  cart.target.status = 2;
+  cart.target.turn = 35;
+  CHECK(findings({cart}, KrlCheckOptions{}) == std::vector<int>{5});
+  KrlMotionRecord no_a4 = full;
+  no_a4.target.values.erase("A4");
+  auto f = check_krl_motions(KrlProgram{"", {}, {no_a4}, {}}, KrlCheckOptions{});
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].message.find("a PTP without A4") != std::string::npos);
+  // An external axis of the cell left out: only the cell knows it is there.
+  KrlMotionRecord no_e2 = full;
+  no_e2.target.values.erase("E2");
+  CHECK(findings({no_e2}, KrlCheckOptions{}).empty());
+  f = check_krl_motions(KrlProgram{"", {}, {no_e2}, {}}, with_cell);
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].message.find("a PTP without E2") != std::string::npos);
+  // Through the reader: a main program whose first motion is in its first part.
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "redpost_check_bco";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const auto write = [](const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::binary) << text;
+  };
+  write(root / "MAIN.src", "DEF MAIN( )\nP1( )\nEND\n");
+  write(root / "P1.src",
+        "DEF P1( )\nPTP {E6AXIS: A1 0, A2 -90, A3 90, A4 0, A5 30, A6 0, E1 0, E2 0}\n"
+        "LIN {E6POS: X 1, Y 2, Z 3, A 0, B 0, C 0, E1 0, E2 0} C_DIS\nEND\n");
+  CHECK(lines_with(check_krl((root / "MAIN.src").string(), with_cell),
+                   "the program's first motion is")
+            .empty());
+  write(root / "P1.src",
+        "DEF P1( )\nLIN {E6POS: X 1, Y 2, Z 3, A 0, B 0, C 0, E1 0, E2 0} C_DIS\n"
+        "PTP {E6AXIS: A1 0, A2 -90, A3 90, A4 0, A5 30, A6 0, E1 0, E2 0}\nEND\n");
+  CHECK(lines_with(check_krl((root / "MAIN.src").string(), with_cell),
+                   "the program's first motion is a LIN") == std::vector<int>{2});
+  fs::remove_all(root);
 }
 
 TEST_CASE("check: golden programs are clean (through the reader)") {

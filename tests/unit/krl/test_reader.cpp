@@ -106,12 +106,19 @@ TEST_CASE("krl_reader: every golden program is read with all its motions", "[krl
     for (const char* f : {"A1", "A2", "A3", "A4", "A5", "A6", "E1", "E2"})
       CHECK(first.target.has(f));
     CHECK_FALSE(first.target.has("X"));
-    // The reference cell's table is a coupled kinematic: $BASE turns with it (KSS 8's EK, KSS 5's
-    // base number through BAS).
+    // The reference cell's table is a coupled kinematic: $BASE turns with it (EK of KSS 8's
+    // MACHINE_DEF entry, of KSS 5's EX_AX_DATA entry).
     CHECK(first.base == (std::string(name).find("krc2") != std::string::npos
-                             ? std::string("BAS(#BASE,1)")
+                             ? std::string("EK(EX_AX_DATA[1].ROOT, EX_AX_DATA[1].EX_KIN, "
+                                           "BASE_DATA[1])")
                              : std::string("EK(MACHINE_DEF[2].ROOT, MACHINE_DEF[2].MECH_TYPE, "
                                            "BASE_DATA[1])")));
+    // The BCO run at the slower PTP velocity the set names; every other PTP at the rapids'.
+    CHECK(first.ptp_velocity_percent == 10.0);
+    for (std::size_t i = 1; i < p.motions.size(); ++i) {
+      if (p.motions[i].keyword == "PTP" && p.motions[i].file == first.file)
+        CHECK(p.motions[i].ptp_velocity_percent == 20.0);
+    }
     // long_pass.apt loads tool 2: without a tool table, TOOL_DATA[2] (docs/tools.md).
     CHECK(first.tool == (std::string(name) == "long_pass" ? "TOOL_DATA[2]" : "TOOL_DATA[1]"));
     for (const auto& m : p.motions) {
@@ -189,7 +196,7 @@ TEST_CASE("krl_reader: first motion values and Cartesian PTP with S and T", "[kr
   CHECK(p.motions[0].target.values.at("A1") == Approx(0.3084));
   CHECK(p.motions[0].target.values.at("E1") == Approx(340.0));
   CHECK(p.motions[0].target.values.at("E2") == Approx(6.0));
-  CHECK(p.motions[0].line == 24);
+  CHECK(p.motions[0].line == 27);
   CHECK(p.motions[0].cl_line == 9);
   // With --clearance 100 the first rapid (z 110 -> 62) is a PTP down to the plane, then a LIN.
   const auto& ptp = p.motions[1];

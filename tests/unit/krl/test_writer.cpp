@@ -488,10 +488,18 @@ TEST_CASE("krl_writer: a small program reads back as the motions given") {
   CHECK(vel[1].first > ml[29].line_index);
   CHECK(vel[1].first < ml[30].line_index);
 
-  // A CL line comment before every 10th motion, carrying that motion's CL line.
+  // The first motion is the BCO run (bco_ptp): said in a comment, slower, then the rapids'
+  // velocity again.
+  REQUIRE(ml[0].line_index >= 2);
+  CHECK(lines[ml[0].line_index - 2].rfind("; BCO run: PTP from where the robot stands", 0) == 0);
+  CHECK(lines[ml[0].line_index - 1] == "BAS (#VEL_PTP,10)");
+  CHECK(lines[ml[0].line_index + 1] == "BAS (#VEL_PTP,20)");
+
+  // A CL line comment before every 10th motion, carrying that motion's CL line (before the
+  // BCO run's two lines at the first).
   int cl_comments = 0;
   for (size_t i = 0; i < motions.size(); ++i) {
-    const size_t at = ml[i].line_index;
+    const size_t at = ml[i].line_index - (i == 0 ? 2 : 0);
     const std::string expected = "; CL line " + std::to_string(motions[i].cl_line);
     const bool present =
         at > 0 && (lines[at - 1] == expected || (at > 1 && lines[at - 2] == expected));
@@ -996,6 +1004,7 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
     change.number = 3;
     change.name = "D12 ball\nmill";
     change.tool_data = 3;
+    change.load_data = 7;
     change.tool = "TOOL_DATA[3]";
     w.tool_change(change);
     w.spindle(12000, true);
@@ -1014,7 +1023,8 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
     return static_cast<long>(std::find(lines.begin(), lines.end(), l) - lines.begin());
   };
   for (const std::string& l :
-       {std::string("$TOOL = TOOL_DATA[3]"), std::string("; SPINDLE ON 12000 rpm CW"),
+       {std::string("$TOOL = TOOL_DATA[3]"), std::string("$LOAD = LOAD_DATA[7]"),
+        std::string("$ACT_TOOL = 3"), std::string("; SPINDLE ON 12000 rpm CW"),
         std::string("; COOLANT ON FLOOD")}) {
     INFO(l);
     CHECK(index(p1, l) < static_cast<long>(p1.size()));
@@ -1029,6 +1039,81 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
   CHECK(index(p1, "; roughing; pass 1") < static_cast<long>(p1.size()));
   CHECK(index(p2, "WAIT SEC 0.5") < index(p2, "; SPINDLE OFF"));
   CHECK(index(p2, "; SPINDLE OFF") < static_cast<long>(p2.size()));
+}
+
+TEST_CASE("krl_writer: the base, the tool and its load by number, and the KR C2 coupled base") {
+  const Cell cell = test::shipped_cell("kr15_2");
+  const std::vector<KrlMotion> motions = make_motions(cell, 3, 2);
+  const auto header = [&](const std::string& set_name, const KrlProgramInfo& info) {
+    const KrlTemplateSet set = load_krl_templates(template_path(set_name));
+    {
+      KrlWriter w(set, info);
+      w.velocity(0.02);
+      for (const KrlMotion& m : motions)
+        w.motion(m);
+      w.finish();
+    }
+    std::vector<std::string> lines =
+        split_lines(read_bytes(std::filesystem::path(info.output_dir) / (info.name + ".src")));
+    // The lines between the header comment and $ADVANCE: what {frames} wrote.
+    const auto from = std::find_if(lines.begin(), lines.end(), [](const std::string& l) {
+      return l.rfind("; redpost", 0) == 0 || l == "; test";
+    });
+    const auto to = std::find(lines.begin(), lines.end(), "$ADVANCE = 3");
+    REQUIRE(from < to);
+    return std::vector<std::string>(from + 1, to);
+  };
+  TempDir dir;
+  KrlProgramInfo info = info_for(dir, "FRAMES");
+  info.header_comment = "test";
+  info.base = "BASE_DATA[4]";
+  info.base_data = 4;
+  info.tool = "TOOL_DATA[2]";
+  info.tool_data = 2;
+  // KR C4, a static base; the load is the tool's own number unless given.
+  CHECK(header("krc4_lin", info) ==
+        std::vector<std::string>{"$BASE = BASE_DATA[4]", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]",
+                                 "$LOAD = LOAD_DATA[2]", "$ACT_TOOL = 2"});
+  info.load_data = 9;
+  info.base_coupled = true;
+  info.machine_def = 3;
+  info.ex_ax_data = 2;
+  info.ex_axes = 1;
+  CHECK(header("krc4_spline", info) ==
+        std::vector<std::string>{
+            "$BASE = EK(MACHINE_DEF[3].ROOT, MACHINE_DEF[3].MECH_TYPE, BASE_DATA[4])",
+            "$ACT_EX_AX = 1", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]", "$LOAD = LOAD_DATA[9]",
+            "$ACT_TOOL = 2"});
+  // KR C2: the coupled base through EK of the kinematic's EX_AX_DATA entry, not BAS (#BASE, n),
+  // which selects a base that does not turn with the table.
+  const std::vector<std::string> coupled = header("krc2_lin", info);
+  CHECK(coupled == std::vector<std::string>{
+                       "$BASE = EK(EX_AX_DATA[2].ROOT, EX_AX_DATA[2].EX_KIN, BASE_DATA[4])",
+                       "$ACT_EX_AX = 1", "$TOOL = TOOL_DATA[2]"});
+  info.base_coupled = false;
+  const std::vector<std::string> fixed = header("krc2_lin", info);
+  CHECK(fixed == std::vector<std::string>{"$BASE = BASE_DATA[4]", "$TOOL = TOOL_DATA[2]"});
+  CHECK(coupled.front() != fixed.front());
+
+  // A $TOOL or $BASE given as an expression has no number: a set that writes one is refused
+  // before anything is written, naming the option to give.
+  const KrlTemplateSet krc4 = load_krl_templates(template_path("krc4_lin"));
+  info.tool = "MY_SPINDLE_TOOL";
+  info.tool_data = 0;
+  info.name = "NO_NUMBER";
+  try {
+    KrlWriter w(krc4, info);
+    FAIL("a tool without a number was accepted");
+  } catch (const Error& e) {
+    CHECK(e.code() == ErrorCode::bad_input);
+    CHECK(e.message().find("the tool is not a TOOL_DATA[n] entry: give --tool TOOL_DATA[n]") !=
+          std::string::npos);
+  }
+  CHECK(!std::filesystem::exists(dir.path / "NO_NUMBER.src"));
+  info.tool = "TOOL_DATA[2]";
+  info.tool_data = 2;
+  info.base_data = 0;
+  CHECK_THROWS_WITH(KrlWriter(krc4, info), Catch::Contains("give --base BASE_DATA[n]"));
 }
 
 TEST_CASE("krl_writer: a hand-built template set is checked too, and {date} only on request") {

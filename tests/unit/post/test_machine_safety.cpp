@@ -49,11 +49,13 @@ struct RunOptions {
   std::string name = "PROG";
   double fit_tolerance_mm = 0.0;  // point reduction off, as PostOptions has it
   RedundancyPlan plan = RedundancyPlan::local;
+  int cell_load_data = 0;  // the cell's <controller load-data> (0: none)
 };
 
 // Converts CL text as `redpost convert` does (reader -> session), into `dir`.
 Run run(const std::string& cl, const fs::path& dir, const RunOptions& ro = {}) {
-  const Cell cell = test::shipped_cell(ro.cell);
+  Cell cell = test::shipped_cell(ro.cell);
+  cell.controller.load_data = ro.cell_load_data;
   const KrlTemplateSet set =
       load_krl_templates(test::source_path("definitions/krl/" + ro.templates + ".xml"));
   const fs::path input = dir / "part.apt";
@@ -297,13 +299,26 @@ TEST_CASE(
   const fs::path table = dir.path / "tools.xml";
   std::ofstream(table) << "<tool-table>\n"
                           "  <tool number=\"15\" data=\"3\" length=\"70\" name=\"centre drill\"/>\n"
-                          "  <tool number=\"16\" data=\"4\" length=\"105\"/>\n"
+                          "  <tool number=\"16\" data=\"4\" load-data=\"11\" length=\"105\"/>\n"
                           "</tool-table>\n";
   RunOptions ro;
   ro.tools = load_tool_table(table.string());
   const Run r = run(drill_job(69.0, 105.0), dir.path, ro);
-  CHECK(r.src.find("$TOOL = TOOL_DATA[3]") != std::string::npos);
-  CHECK(r.src.find("$TOOL = TOOL_DATA[4]") != std::string::npos);
+  // $TOOL, then the load and the number the pendant shows: the table's load for tool 16, the
+  // tool's own number for tool 15, which the table gives none.
+  CHECK(r.src.find("$TOOL = TOOL_DATA[3]\r\n$LOAD = LOAD_DATA[3]\r\n$ACT_TOOL = 3\r\n") !=
+        std::string::npos);
+  CHECK(r.src.find("$TOOL = TOOL_DATA[4]\r\n$LOAD = LOAD_DATA[11]\r\n$ACT_TOOL = 4\r\n") !=
+        std::string::npos);
+  // The cell's load for every tool the table gives none.
+  {
+    test::TempDir other;
+    RunOptions with_cell_load = ro;
+    with_cell_load.cell_load_data = 6;
+    const Run c = run(drill_job(69.0, 105.0), other.path, with_cell_load);
+    CHECK(c.src.find("$TOOL = TOOL_DATA[3]\r\n$LOAD = LOAD_DATA[6]\r\n") != std::string::npos);
+    CHECK(c.src.find("$TOOL = TOOL_DATA[4]\r\n$LOAD = LOAD_DATA[11]\r\n") != std::string::npos);
+  }
   // SolidWorks CAM names no tool on LOAD/TOOL: the table's name is written.
   CHECK(r.src.find("; TOOL CHANGE: T15 centre drill") != std::string::npos);
   bool mismatch = false;

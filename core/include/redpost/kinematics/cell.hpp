@@ -103,11 +103,15 @@ struct ControllerSettings {
   // Chain index of the joint (a turntable) that carries the base as a mathematically coupled
   // kinematic (KUKA #EASYS, $BASE = EK(...)); -1: the base is static.
   int coupled_base_joint = -1;
-  int machine_def = 2;  // MACHINE_DEF index of that kinematic
+  int machine_def = 2;  // MACHINE_DEF index of that kinematic (KSS 8)
+  int ex_ax_data = 1;   // EX_AX_DATA index of that kinematic (KSS 5: ET1 .. ET6)
   // Chain index of a linear track that carries the robot as a ROBROOT kinematic (#ERSYS); -1:
   // none. Informational: the controller moves $ROBROOT with it, the program only sets E1.
   int robroot_joint = -1;
   std::string tool_change_routine;  // a KRL routine of the cell, called with the tool number
+  // LOAD_DATA index ($LOAD) of every tool the tool table gives none for; 0: the tool's TOOL_DATA
+  // index (docs/tools.md, "Load data").
+  int load_data = 0;
 };
 
 struct Cell {

@@ -17,12 +17,16 @@ namespace redpost {
 
 struct Cell;
 
-// KUKA controllers have TOOL_DATA[1] .. TOOL_DATA[16] by default.
+// KUKA controllers have TOOL_DATA[1] .. TOOL_DATA[16] by default, and as many LOAD_DATA.
 inline constexpr int kMaxToolData = 16;
+inline constexpr int kMaxLoadData = 16;
 
 struct ToolEntry {
-  int number = 0;          // the CL tool number (LOADTL/n, LOAD/TOOL,n)
-  int tool_data = 0;       // TOOL_DATA index, 1 .. kMaxToolData
+  int number = 0;     // the CL tool number (LOADTL/n, LOAD/TOOL,n)
+  int tool_data = 0;  // TOOL_DATA index, 1 .. kMaxToolData
+  // LOAD_DATA index of the spindle with this tool ($LOAD), 1 .. kMaxLoadData; 0: the cell's
+  // default (ControllerSettings::load_data), else tool_data, as KUKA's BAS (#TOOL, n) pairs them.
+  int load_data = 0;
   double length_mm = 0.0;  // along the tool axis, from the spindle's gauge line to the tip
   std::string name;        // for comments and messages (may be empty)
   int line = 0;            // where it is defined

@@ -8,7 +8,8 @@
 // Every line ends with CRLF, as on the (Windows-based) controller.
 //
 // The program's first motion is always written as a PTP to its full E6AXIS (whatever its kind),
-// so that the controller's BCO run is a defined joint move. A program is split into parts when
+// so that the controller's BCO run is a defined joint move: the set's bco_ptp, which says so and
+// slows it (docs/krl-templates.md, "The start"), else ptp_axes. A program is split into parts when
 // a .src would grow beyond max_file_bytes (by default 4 MiB, what a KR C4 loads comfortably), or
 // every motions_per_file motions: it is then NAME.src, which calls NAME_P001() ... in order; each
 // part has its own .dat and starts by restating the tool, spindle and coolant and a PTP E6AXIS
@@ -37,8 +38,14 @@ struct KrlProgramInfo {
   std::string output_dir;             // must exist and be writable (checked at construction)
   std::string base = "BASE_DATA[1]";  // right-hand side of $BASE = (the offset base if coupled)
   std::string tool = "TOOL_DATA[1]";  // right-hand side of $TOOL = until a tool_change()
-  double apo_mm = 0.5;                // $APO.CDIS
-  int motions_per_file = 0;           // 0: split by bytes only
+  // The numbers of that tool ({tool_data}: $ACT_TOOL; 0 where `tool` is not a TOOL_DATA entry,
+  // and a set that writes the number is then refused, docs/krl-templates.md, "Base and tool")
+  // and of its load data ({load_data}: $LOAD = LOAD_DATA[n]; 0: tool_data, as KUKA's
+  // BAS (#TOOL, n) pairs them), until a tool_change().
+  int tool_data = 1;
+  int load_data = 0;
+  double apo_mm = 0.5;       // $APO.CDIS
+  int motions_per_file = 0;  // 0: split by bytes only
   // A .src is never larger than this (bytes); 0: the template set's <limits max-bytes>, or
   // kDefaultMaxFileBytes. At least 16 KiB.
   long max_file_bytes = 0;
@@ -47,8 +54,11 @@ struct KrlProgramInfo {
   // The base turns with a mathematically coupled kinematic (a turntable): $BASE comes from the
   // template's base_coupled statement with {machine} (MACHINE_DEF index) and {ex_axes}.
   bool base_coupled = false;
-  int machine_def = 2;
-  int base_data = 1;  // the BASE_DATA index ({base_data}), e.g. for KSS 5's BAS (#BASE, n)
+  int machine_def = 2;  // {machine}: KSS 8's MACHINE_DEF index
+  int ex_ax_data = 1;   // {ex_ax_data}: KSS 5's EX_AX_DATA index
+  // The BASE_DATA index ({base_data}) of `base` ($ACT_BASE, KSS 5's BAS); 0 where `base` is no
+  // BASE_DATA entry, and a set that writes the number is then refused.
+  int base_data = 1;
   int ex_axes = 0;
   // The cell's tool change routine ({routine} in tool_change); empty: tool_change_manual.
   std::string tool_change_routine;
@@ -68,6 +78,7 @@ struct KrlToolChange {
   int number = 0;     // the CL tool number
   std::string name;   // the CL tool's name (a comment)
   int tool_data = 1;  // TOOL_DATA index
+  int load_data = 0;  // LOAD_DATA index ($LOAD); 0: tool_data
   std::string tool;   // right-hand side of $TOOL =, e.g. "TOOL_DATA[16]"
 };
 
