@@ -22,6 +22,7 @@ struct CheckOptions {
   std::string path;
   std::string cell_path;
   size_t max_bytes = kKrlDefaultMaxBytes;
+  size_t program_memory = 0;
   double ipo_cycle_ms = 12.0;
   double orientation_deg_s = 200.0;
   bool strict = false;
@@ -31,6 +32,7 @@ int run_check(const CheckOptions& opt) {
   std::optional<Cell> cell;
   KrlCheckOptions options;
   options.max_bytes = opt.max_bytes;
+  options.max_program_bytes = opt.program_memory;
   if (!opt.cell_path.empty()) {
     cell = load_cell(opt.cell_path);
     options.cell = &*cell;
@@ -77,6 +79,10 @@ Runner add_check_command(CLI::App& app) {
   cmd->add_option("--cell", opt->cell_path,
                   "Cell definition (XML): check A1..A6/E1..E6 against its joint limits");
   cmd->add_option("--max-bytes", opt->max_bytes, "Largest file size accepted (bytes)")
+      ->capture_default_str();
+  cmd->add_option("--program-memory", opt->program_memory,
+                  "The controller's program memory (bytes): a program whose files together take "
+                  "more cannot be loaded at once; 0: not checked")
       ->capture_default_str();
   cmd->add_option("--ipo-cycle", opt->ipo_cycle_ms,
                   "The controller's interpolation cycle (ms): CP motions shorter than one at "

@@ -512,7 +512,7 @@ Runner add_convert_command(CLI::App& app) {
                 "$VEL.CP of rapids written as LIN, m/s (default 0.25)");
   c->add_option("--max-bytes", opt->max_bytes,
                 "Largest .src in bytes: a larger program is split into parts (default: the "
-                "template set's <limits>, else 4 MiB)");
+                "template set's <limits>, else 512 KiB)");
   c->add_option("--apo", opt->apo_mm, "Blending distance $APO.CDIS in mm (default 0.5)");
   c->add_option("--split", opt->split, "Motions per file; 0 keeps one file (default 0)")
       ->check(non_negative_number());

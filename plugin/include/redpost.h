@@ -75,7 +75,7 @@ typedef struct rp_options {
   int has_clearance;             /* 1: clearance_z_mm is the clearance plane of rapids */
   double clearance_z_mm;         /* z in the CL frame above which a rapid may be a PTP */
   double rapid_velocity_m_per_s; /* $VEL.CP of rapids written as LIN; default 0.25 */
-  long max_file_bytes;           /* largest .src; 0: the template set's, or 4 MiB */
+  long max_file_bytes;           /* largest .src; 0: the template set's, or 512 KiB */
   /* Added in 0.3: the redundancy along the path (docs/redundancy.md, "Whole-path planning").
    * Hosts built against 0.2 get the defaults, so the plan is global for them too. */
   int plan;                   /* RP_PLAN_GLOBAL (default) or RP_PLAN_LOCAL (Algorithm 1 alone) */

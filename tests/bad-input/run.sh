@@ -60,7 +60,7 @@ printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nFEDRAT/MMPM,2000\nGOTO/-100,-300,60\nG
 printf 'UNITS/MM\nCUTTER/16.,0\nLOADTL/1\nSPINDL/RPM,5000000,CLW\nFEDRAT/MMPM,2000\nGOTO/-100,-300,60\n' \
   >"$GEN/spindle_5e6.apt"
 # Template sets whose fixed text a controller (and redpost check) would reject (issue 31): a
-# 40-character name in the src skeleton (line 35, the $ADVANCE line of krc4_lin), and a
+# 40-character name in the src skeleton (line 40, the $ADVANCE line of krc4_lin), and a
 # statement that is not KRL.
 sed 's/^\$ADVANCE = 3$/AN_IDENTIFIER_OF_FORTY_CHARACTERS_LONG_X = 3/' \
   "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/long_name_krl.xml"

@@ -24,23 +24,49 @@ grep -q '^SPLINE' "$TMP/named/NAMED.src" || fail "krc4_spline by name gave no SP
 cmp -s "$TMP/named/NAMED.src" "$TMP/replay/NAMED.src" || fail "nx_replay and convert differ"
 passed
 
-begin "100 000 poses: every file within 4 MiB, and redpost check passes them"
-$py "$SRC/tests/bench/make_raster_apt.py" 100000 "$TMP/raster.apt"
+begin "100 000 poses: parts within 512 KiB that end out of the material, and check passes them"
+# A raster that lifts 20 mm at the end of every line: each part must end where a lift ended
+# (its last motion at the lifted z), never in the cut.
+$py "$SRC/tests/bench/make_raster_apt.py" 100000 "$TMP/raster.apt" --lift
 mkdir -p "$TMP/raster"
 # One motion per CL point (--fit-tol 0, no point reduction): the sizes of the largest program.
-run convert "$TMP/raster.apt" --cell "$cell" -o "$TMP/raster" --name RASTER --fit-tol 0 -q
+run convert "$TMP/raster.apt" --cell "$cell" -o "$TMP/raster" --name RASTER --fit-tol 0
 expect_rc 0
-parts=0
+files=0 total=0
 for f in "$TMP/raster"/*.src "$TMP/raster"/*.dat; do
   size=$(stat -c %s "$f")
-  [[ "$size" -le 4194304 ]] || fail "$(basename "$f") has $size bytes, more than 4 MiB"
-  parts=$((parts + 1))
+  [[ "$size" -le 524288 ]] || fail "$(basename "$f") has $size bytes, more than 512 KiB"
+  files=$((files + 1)) total=$((total + size))
 done
-[[ "$parts" -ge 6 ]] || fail "expected a main program and at least two parts, got $parts files"
-run check "$TMP/raster"
+[[ "$files" -ge 20 ]] || fail "expected a main program and at least nine parts, got $files files"
+parts=("$TMP/raster"/RASTER_P*.src)
+for f in "${parts[@]:0:${#parts[@]}-1}"; do  # the last part ends where the CL file does
+  last=$(grep -E '^(LIN|PTP) ' "$f" | tail -1)
+  [[ "$last" == *"Z 80.000"* ]] || fail "$(basename "$f") ends in the cut: $last"
+done
+grep -q "part boundaries fall where the tool may be in the material" "$TMP/err" &&
+  fail "a boundary in the cut was reported: $(cat "$TMP/err")"
+# The program is larger than the set's program memory: said, with its size, which check
+# recounts from the files.
+grep -q "the program's files take $total bytes, more than the 3000000 bytes of program memory" \
+  "$TMP/err" || fail "no program memory warning with $total bytes: $(cat "$TMP/err")"
+run check "$TMP/raster" --max-bytes 524288
 expect_rc 0
+run check "$TMP/raster" --max-bytes 524288 --program-memory 3000000
+expect_rc 1
+grep -q "RASTER.src:1: the program's $files files take $total bytes" "$TMP/out" ||
+  fail "check counts otherwise: $(cat "$TMP/out")"
 $py "$check_py" statements "$TMP/raster" >"$TMP/out" 2>&1 || fail "statements: $(cat "$TMP/out")"
 rm -rf "$TMP/raster"
+# Without the lifts there is no place out of the material: the boundaries fall in the cut, and
+# the warning names the CL lines.
+$py "$SRC/tests/bench/make_raster_apt.py" 60000 "$TMP/zigzag.apt"
+mkdir -p "$TMP/zigzag"
+run convert "$TMP/zigzag.apt" --cell "$cell" -o "$TMP/zigzag" --name ZIGZAG --fit-tol 0
+expect_rc 0
+grep -qE "zigzag.apt: [0-9]+ of the [0-9]+ part boundaries fall where the tool may be in the material \(after CL line [0-9]+" \
+  "$TMP/err" || fail "no warning of boundaries in the cut: $(cat "$TMP/err")"
+rm -rf "$TMP/zigzag"
 passed
 
 begin "a program above the old 16 MiB limit is read by check (too large: a finding) and diff"

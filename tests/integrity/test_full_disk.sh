@@ -97,12 +97,13 @@ else
 fi
 
 # --- a file-size limit -----------------------------------------------------------------------
-# ulimit -f counts 1024-byte blocks here (bash): 512 = 512 KiB per file.
-limited() { (ulimit -f 512 && exec "$@"); }
+# ulimit -f counts 1024-byte blocks here (bash): 256 = 256 KiB per file, half a part's default
+# budget.
+limited() { (ulimit -f 256 && exec "$@"); }
 limited64() { (ulimit -f 64 && exec "$@"); }
 LIM=$SCRATCH/limited
 mkdir -p "$LIM"
-run_all "ulimit -f 512 KiB" "$LIM" "File too large" limited
+run_all "ulimit -f 256 KiB" "$LIM" "File too large" limited
 rm -rf "${LIM:?}"/*
 rc=0
 limited64 "$BIN" convert "$SCRATCH/small.apt" --fit-tol 0 --cell "$CELL" -o "$SCRATCH/elsewhere" -q \

@@ -669,10 +669,25 @@ std::vector<KrlFinding> check_krl(const std::string& path, const KrlCheckOptions
     try {
       // Streamed: a motion at a time, so that memory does not grow with the program.
       krl::MotionChecks checks(options, m);
+      std::set<std::string> loaded;  // this program's files, each counted once
+      size_t program_bytes = 0;
       const KrlProgram program = read_krl_program(
-          m, [&](const KrlMotionRecord& r) { checks.add(r); }, check_loaded);
+          m, [&](const KrlMotionRecord& r) { checks.add(r); },
+          [&](const std::string& file, const std::string& text) {
+            if (loaded.insert(normal(file)).second)
+              program_bytes += text.size();
+            check_loaded(file, text);
+          });
       for (KrlFinding& f : checks.finish())
         out.push_back(std::move(f));
+      if (options.max_program_bytes > 0 && program_bytes > options.max_program_bytes) {
+        out.push_back({m, 1,
+                       fmt::format("the program's {} files take {} bytes, more than the {} "
+                                   "bytes of program memory (--program-memory): the controller "
+                                   "cannot load it at once; run it a part at a time "
+                                   "(docs/krl-templates.md, \"Splitting\")",
+                                   loaded.size(), program_bytes, options.max_program_bytes)});
+      }
       if (!directory)
         for (const std::string& f : program.files)
           if (seen.insert(normal(f)).second)

@@ -657,9 +657,12 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       if (limits)
         r.fail(e, "<limits> given twice");
       limits = e;
-      r.only_attributes(e, {"max-bytes"});
+      r.only_attributes(e, {"max-bytes", "program-memory"});
       // At least 16 KiB: a program file's skeleton and one motion fit many times over.
-      set.max_file_bytes = r.integer(e, "max-bytes", 16 * 1024, 1 << 30);
+      if (e->Attribute("max-bytes") || !e->Attribute("program-memory"))
+        set.max_file_bytes = r.integer(e, "max-bytes", 16 * 1024, 1 << 30);
+      if (e->Attribute("program-memory"))
+        set.program_memory_bytes = r.integer(e, "program-memory", 64 * 1024, 1 << 30);
     } else if (n == "timing") {
       if (timing)
         r.fail(e, "<timing> given twice");

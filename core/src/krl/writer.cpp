@@ -356,6 +356,11 @@ void KrlWriter::motion(const KrlMotion& m) {
     w.close_module();
     w.next_part();
     w.restate();
+  } else if (w.last_in_air && w.part_nearly_full()) {
+    // Out of the material (where a rapid or an approach ended; a rapid may start in the cut, a
+    // drill's retract from the hole's bottom): the part ends here rather than later in a cut,
+    // where its successor's first PTP would stop the tool.
+    w.end_part();
   } else {
     // A motion with what may come with it: a CL line comment, $VEL.CP, a spline block's ends.
     w.ensure_room(1024);
@@ -412,6 +417,8 @@ void KrlWriter::motion(const KrlMotion& m) {
   }
   w.last_axes = m.axes;
   w.last_p = m.T_base_tcp.translation();
+  w.last_in_air = m.in_air;
+  w.last_cl_line = m.cl_line;
   w.have_last = true;
   ++w.motion_count;
   ++w.motions_in_module;
@@ -528,6 +535,8 @@ void KrlWriter::circ(const KrlMotion& aux, const KrlMotion& end) {
     v.aux[i] = p[i];
   w.put(Stmt::circ, v);
   w.last_axes = end.axes;
+  w.last_in_air = end.in_air;
+  w.last_cl_line = end.cl_line;
   ++w.motion_count;
   ++w.motions_in_module;
 }
@@ -595,7 +604,15 @@ void KrlWriter::prepare() {
   w.close_module();
   if (!w.parts.empty())
     w.write_main_program();
+  w.split.parts = static_cast<int>(w.parts.size());
+  w.split.program_bytes = 0;
+  for (const Impl::File& f : w.files)
+    w.split.program_bytes += static_cast<long>(fs::file_size(f.temp));
   w.prepared = true;
+}
+
+const KrlSplitReport& KrlWriter::split() const {
+  return impl_->split;
 }
 
 std::vector<std::string> KrlWriter::finish() {

@@ -224,6 +224,21 @@ void KrlWriter::Impl::ensure_room(long needed) {
     return;
   if (module_bytes + needed + footer_bytes + kSlack <= budget)
     return;
+  // No place out of the material came in the budget's last quarter: the part ends here, after a
+  // motion that may end in the cut, and the next starts there with its PTP (an exact stop).
+  if (!last_in_air) {
+    if (split.mid_cut_lines.size() < 10)
+      split.mid_cut_lines.push_back(last_cl_line);
+    ++split.mid_cut;
+  }
+  end_part();
+}
+
+bool KrlWriter::Impl::part_nearly_full() const {
+  return budget > 0 && have_last && 4 * (module_bytes + footer_bytes) >= 3 * budget;
+}
+
+void KrlWriter::Impl::end_part() {
   if (parts.empty())
     promote_first_module();
   close_module();

@@ -64,6 +64,11 @@ struct KrlWriter::Impl {
   long header_bytes = 0;
   long footer_bytes = 0;
 
+  // Where parts ended (KrlWriter::split()); whether the last motion ended out of the material.
+  KrlSplitReport split;
+  bool last_in_air = true;
+  int last_cl_line = 0;  // of the last motion: where a part that ends now ends
+
   long motion_count = 0;  // all motions so far
   int motions_in_module = 0;
   bool in_spline = false;
@@ -170,6 +175,10 @@ struct KrlWriter::Impl {
   long count_bytes(std::string_view text) const;
   // Starts a new part first if `needed` more bytes would not fit the current .src's budget.
   void ensure_room(long needed);
+  // Whether the current part holds three quarters of its budget: it ends at the next place out
+  // of the material.
+  bool part_nearly_full() const;
+  void end_part();  // closes the part (promoting a first module) and starts the next
   void promote_first_module();
   void write_main_program();
   void rename_files();

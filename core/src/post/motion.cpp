@@ -164,6 +164,8 @@ KrlMotion PostSession::Impl::motion_at(KrlMotionKind kind, const JointVector& q,
   m.kind = kind;
   m.axes = to_controller_axes(cell, q);
   m.cl_line = cl_line;
+  // A PTP, or a line at the rapid speed: a rapid traverse or an approach, which ends in the air.
+  m.in_air = kind != KrlMotionKind::lin || !asked_is_feed;
   m.T_base_tcp = o.T_B_base.inverse() * physical_tcp(q);
   m.status_turn = status_turn(cell, arm, q);
   return m;

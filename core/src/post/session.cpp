@@ -146,6 +146,7 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
       arm(make_arm_status_model(c)),
       spin_last(last_pure_spin(c)),
       templates_position_decimals(templates.position_decimals),
+      program_memory_bytes(templates.program_memory_bytes),
       front(options.source_name, expander_options(options),
             [this](const std::string& w) {
               // Run apart (PostSession::front): among the items, taken in order.
@@ -663,6 +664,31 @@ void PostSession::literal(const std::string& text, int cl_line) {
   impl_->timing_stop(0.0);
 }
 
+void PostSession::Impl::warn_about_parts() {
+  const KrlSplitReport& split = writer.split();
+  if (split.mid_cut > 0) {
+    std::string lines;
+    for (std::size_t i = 0; i < split.mid_cut_lines.size(); ++i)
+      lines += fmt::format("{}{}", i > 0 ? ", " : "", split.mid_cut_lines[i]);
+    summary.warnings.push_back(fmt::format(
+        "{}: {} of the {} part boundaries fall where the tool may be in the material (after CL "
+        "line {}{}): no rapid or approach came in the last quarter of the part's byte budget, so "
+        "the next part starts there with an exact-stop PTP, which may mark the surface; let the "
+        "CAM system retract more often, or raise --max-bytes (docs/krl-templates.md, "
+        "\"Splitting\")",
+        o.source_name, split.mid_cut, split.parts - 1, lines,
+        split.mid_cut > static_cast<long>(split.mid_cut_lines.size()) ? ", ..." : ""));
+  }
+  if (program_memory_bytes > 0 && split.program_bytes > program_memory_bytes) {
+    summary.warnings.push_back(fmt::format(
+        "{}: the program's files take {} bytes, more than the {} bytes of program memory the "
+        "template set gives the controller (<limits program-memory>): it cannot be loaded at "
+        "once; copy its parts to the controller one at a time (docs/krl-templates.md, "
+        "\"Splitting\")",
+        o.source_name, split.program_bytes, program_memory_bytes));
+  }
+}
+
 const PostSummary& PostSession::prepare() {
   Impl& m = *impl_;
   if (m.prepared)
@@ -700,6 +726,7 @@ const PostSummary& PostSession::prepare() {
   if (m.csv)
     m.csv->prepare();
   m.writer.prepare();
+  m.warn_about_parts();
   m.prepared = true;
   return m.summary;
 }

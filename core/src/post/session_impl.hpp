@@ -126,6 +126,7 @@ struct PostSession::Impl {
 
   // CIRC (circ.cpp): the arm's closed-form IK on the active cell, for the replay of a CIRC.
   int templates_position_decimals = 3;
+  long program_memory_bytes = 0;  // the set's <limits program-memory> (0: not given)
   std::unique_ptr<ArmIk> arm_ik;
   const Cell* arm_ik_cell = nullptr;
   std::string arm_ik_problem;
@@ -208,6 +209,9 @@ struct PostSession::Impl {
   std::vector<std::string> front_warnings;
   // Where the expansion's warnings go while PostSession::front runs (its caller's thread).
   std::vector<PostSession::FrontItem>* front_sink = nullptr;
+  // The writer's parts, said where they matter: boundaries in a cut, a program larger than the
+  // controller's memory (session.cpp).
+  void warn_about_parts();
   void take_front_warnings() {
     for (std::string& w : front_warnings)
       summary.warnings.push_back(std::move(w));

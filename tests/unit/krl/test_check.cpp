@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "catch_compat.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/cell_xml.hpp"
@@ -324,6 +326,40 @@ TEST_CASE("check: the first motion must be a PTP to a full E6AXIS (the BCO run)"
         "PTP {E6AXIS: A1 0, A2 -90, A3 90, A4 0, A5 30, A6 0, E1 0, E2 0}\nEND\n");
   CHECK(lines_with(check_krl((root / "MAIN.src").string(), with_cell),
                    "the program's first motion is a LIN") == std::vector<int>{2});
+  fs::remove_all(root);
+}
+
+TEST_CASE("check: a program whose files together pass the program memory") {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / "redpost_check_memory";
+  fs::remove_all(root);
+  fs::create_directories(root);
+  const auto write = [](const fs::path& p, const std::string& text) {
+    std::ofstream(p, std::ios::binary) << text;
+  };
+  const std::string ptp = "PTP {E6AXIS: A1 0, A2 -90, A3 90, A4 0, A5 30, A6 0}\n";
+  write(root / "MAIN.src", "DEF MAIN( )\nP1( )\nP2( )\nP1( )\nEND\n");
+  write(root / "MAIN.dat", "DEFDAT MAIN\nENDDAT\n");
+  write(root / "P1.src", "DEF P1( )\n" + ptp + "END\n");
+  write(root / "P2.src", "DEF P2( )\n" + ptp + ptp + "END\n");
+  write(root / "OTHER.src", "DEF OTHER( )\n" + ptp + "END\n");  // not called: not counted
+  std::size_t total = 0;
+  for (const char* f : {"MAIN.src", "MAIN.dat", "P1.src", "P2.src"})
+    total += fs::file_size(root / f);
+  KrlCheckOptions o;
+  o.max_program_bytes = total;
+  CHECK(lines_with(check_krl((root / "MAIN.src").string(), o), "bytes of program memory").empty());
+  o.max_program_bytes = total - 1;
+  const auto f = check_krl((root / "MAIN.src").string(), o);
+  REQUIRE(lines_with(f, "bytes of program memory") == std::vector<int>{1});
+  for (const KrlFinding& x : f) {
+    if (x.message.find("bytes of program memory") != std::string::npos) {
+      CHECK(fs::path(x.file).filename() == "MAIN.src");
+      CHECK(x.message.find(fmt::format("the program's 4 files take {} bytes, more than the {} "
+                                       "bytes",
+                                       total, total - 1)) == 0);
+    }
+  }
   fs::remove_all(root);
 }
 

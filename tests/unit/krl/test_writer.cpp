@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "catch_compat.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
@@ -223,6 +225,11 @@ TEST_CASE("krl_writer: the shipped template sets load") {
   CHECK(spline.statements.count("lin") == 0);
   const KrlTemplateSet krc2 = load_krl_templates(template_path("krc2_lin"));
   CHECK(krc2.statements.at("rapid").find("{s}") != std::string::npos);
+  // A KR C4 holds about 4 MB of programs in all; the parts' size is the writer's default.
+  CHECK(lin.program_memory_bytes == 3000000);
+  CHECK(spline.program_memory_bytes == 3000000);
+  CHECK(lin.max_file_bytes == 0);
+  CHECK(krc2.program_memory_bytes == 0);  // not known for KSS 5
   CHECK(krc2.src_file.find("&PARAM") == std::string::npos);
   for (const KrlTemplateSet* s : {&lin, &spline, &krc2}) {
     INFO(s->name);
@@ -285,6 +292,14 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
     const std::string bad = replaced(good, "<timing ptp-velocity=\"20\"/>",
                                      "<timing ptp-velocity=\"20\" advance=\"2\"/>");
     expect_error(bad, line_of(bad, "advance=\"2\""), "sets $ADVANCE = 3");
+  }
+  SECTION("a program memory too small to be meant, and one given twice") {
+    std::string bad =
+        replaced(good, "<limits program-memory=\"3000000\"/>", "<limits program-memory=\"1000\"/>");
+    expect_error(bad, line_of(bad, "program-memory=\"1000\""), "program-memory");
+    bad = replaced(good, "<limits program-memory=\"3000000\"/>",
+                   "<limits program-memory=\"3000000\"/><limits max-bytes=\"65536\"/>");
+    expect_error(bad, 0, "<limits> given twice");
   }
   SECTION("an interpolation cycle out of range") {
     const std::string bad = replaced(good, "<timing ptp-velocity=\"20\"/>",
@@ -798,6 +813,79 @@ TEST_CASE("krl_writer: splitting into a main program and parts") {
     next += part == 1 ? ml.size() : ml.size() - 1;
   }
   CHECK(next == motions.size());
+}
+
+TEST_CASE("krl_writer: a part ends after a rapid once three quarters full; else the cut is said") {
+  // A seeded property: motions with a rapid (in_air) every `every`-th, 16 KiB parts. Every part
+  // boundary the writer reports outside the cut follows a rapid, read back from the parts' text
+  // (each part's last motion line against the motions given); the others are counted and their
+  // CL lines named; the files' bytes are the report's.
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet set = load_krl_templates(template_path("krc4_lin"));
+  for (const int every : {7, 40, 0}) {
+    INFO("a rapid every " << every << " motions");
+    TempDir dir;
+    KrlProgramInfo info = info_for(dir, "AIR");
+    info.max_file_bytes = 16 * 1024;
+    std::vector<KrlMotion> motions = make_motions(cell, 900, 11, every);
+    for (KrlMotion& m : motions)
+      m.in_air = m.kind == KrlMotionKind::rapid;
+    long report_bytes = 0, mid_cut = 0;
+    std::vector<int> mid_cut_lines;
+    {
+      KrlWriter w(set, info);
+      w.velocity(0.02);
+      for (const KrlMotion& m : motions)
+        w.motion(m);
+      w.prepare();
+      report_bytes = w.split().program_bytes;
+      mid_cut = w.split().mid_cut;
+      mid_cut_lines = w.split().mid_cut_lines;
+      REQUIRE(w.split().parts >= 3);
+      w.finish();
+    }
+    long file_bytes = 0;
+    for (const std::string& name : dir.names())
+      file_bytes += static_cast<long>(fs::file_size(dir.path / name));
+    CHECK(report_bytes == file_bytes);
+    // Each part but the last: its last motion is motion k of those given (by its CL line
+    // comment-free text: the part's motion lines counted in order).
+    int parts = 0, after_rapid = 0, in_cut = 0;
+    std::vector<int> cut_lines;
+    size_t given = 0;
+    for (int p = 1;; ++p) {
+      const fs::path src = dir.path / fmt::format("AIR_P{:03}.src", p);
+      if (!fs::exists(src))
+        break;
+      const std::vector<std::string> lines = split_lines(read_bytes(src));
+      CHECK(static_cast<long>(fs::file_size(src)) <= info.max_file_bytes);
+      const auto ml = motion_lines(lines);
+      // A part after the first starts with the PTP that restates where the last one ended.
+      given += ml.size() - (p > 1 ? 1 : 0);
+      ++parts;
+      if (given >= motions.size())
+        break;
+      const KrlMotion& last = motions[given - 1];
+      if (last.in_air) {
+        ++after_rapid;
+      } else {
+        ++in_cut;
+        cut_lines.push_back(last.cl_line);
+      }
+    }
+    CHECK(given == motions.size());
+    CHECK(in_cut == mid_cut);
+    CHECK(std::vector<int>(cut_lines.begin(),
+                           cut_lines.begin() + std::min<size_t>(cut_lines.size(), 10)) ==
+          mid_cut_lines);
+    if (every == 7)
+      CHECK(in_cut == 0);  // a rapid in every quarter of a part
+    if (every == 0)
+      CHECK(after_rapid == 0);
+    if (every == 40)
+      CHECK(after_rapid > 0);
+    CHECK(parts >= 3);
+  }
 }
 
 TEST_CASE("krl_writer: files appear only complete") {

@@ -2,7 +2,8 @@
 //
 // From the raw text of each .src/.dat: matched DEF/END (DEFFCT/ENDFCT, DEFDAT/ENDDAT) and
 // FOLD/ENDFOLD, declarations before statements, identifiers of at most 24 characters, named
-// motion targets declared in the .src or its .dat, $VEL.CP in (0, 2] m/s and the file size.
+// motion targets declared in the .src or its .dat, $VEL.CP in (0, 2] m/s, the file size and
+// (with max_program_bytes) the size of a program's files together.
 // From the program read with read_krl_program: S and T on the first Cartesian PTP and, with a
 // cell, axis values A1..A6/E1..E6 within the limits of the joints mapped to them; and, as
 // warnings, the CP motions shorter than one interpolation cycle at their $VEL.CP
@@ -41,6 +42,9 @@ inline constexpr std::size_t kKrlMaxShortStretchWarnings = 50;
 struct KrlCheckOptions {
   const Cell* cell = nullptr;  // limits of A1..A6/E1..E6; nullptr: not checked
   size_t max_bytes = kKrlDefaultMaxBytes;
+  // The controller's program memory: a program whose files (the main .src, the parts it calls,
+  // their .dat) take more is a finding, since it cannot be loaded at once. 0: not checked.
+  size_t max_program_bytes = 0;
   // The motion rate (0: not checked); with `motion_rates`, each program's totals, by main file.
   KrlMotionRateOptions motion_rate;
   std::vector<std::pair<std::string, KrlMotionRate>>* motion_rates = nullptr;

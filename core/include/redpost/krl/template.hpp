@@ -48,6 +48,10 @@ struct KrlTemplateSet {
   // <limits max-bytes>: the largest .src a controller of this set loads (0: not given, the
   // writer's default applies; KrlProgramInfo::max_file_bytes overrides both).
   long max_file_bytes = 0;
+  // <limits program-memory>: the bytes of programs the controller can hold loaded for this job
+  // (its .src and .dat files together; 0: not given). A larger program is written with a
+  // warning: it must be run one part at a time (docs/krl-templates.md, "Splitting").
+  long program_memory_bytes = 0;
   KrlTimingSettings timing;
 };
 

@@ -10,10 +10,12 @@
 // The program's first motion is always written as a PTP to its full E6AXIS (whatever its kind),
 // so that the controller's BCO run is a defined joint move: the set's bco_ptp, which says so and
 // slows it (docs/krl-templates.md, "The start"), else ptp_axes. A program is split into parts when
-// a .src would grow beyond max_file_bytes (by default 4 MiB, what a KR C4 loads comfortably), or
+// a .src would grow beyond max_file_bytes (by default 512 KiB: a KR C4 holds about 4 MB in all), or
 // every motions_per_file motions: it is then NAME.src, which calls NAME_P001() ... in order; each
 // part has its own .dat and starts by restating the tool, spindle and coolant and a PTP E6AXIS
-// to where the previous part ended, so that it also runs alone.
+// to where the previous part ended, so that it also runs alone. A part ends out of the material
+// where it can: once it holds three quarters of its budget, after the next rapid or approach
+// (KrlMotion::in_air).
 #pragma once
 
 #include <array>
@@ -29,9 +31,10 @@
 
 namespace redpost {
 
-// The default byte budget of one .src: a KR C4 loads programs of a few MB (about 4 MB on KSS
-// 8.3), and redpost check reads files of at most 16 MiB whole.
-inline constexpr long kDefaultMaxFileBytes = 4L * 1024 * 1024;
+// The default byte budget of one .src: a KR C4 holds about 4 MB of programs in all (KSS 8.3),
+// the system's and the cell's own among them, so a part stays well under 1 MB
+// (docs/krl-templates.md, "Splitting").
+inline constexpr long kDefaultMaxFileBytes = 512L * 1024;
 
 struct KrlProgramInfo {
   std::string name;                   // KRL identifier, at most 24 characters (checked)
@@ -94,6 +97,21 @@ struct KrlMotion {
   Isometry T_base_tcp;     // the physical TCP in $BASE (mm), for Cartesian motions
   StatusTurn status_turn;  // for Cartesian PTP
   int cl_line = 0;         // the CL record it came from (0: none)
+  // A rapid traverse or an approach: it ends out of the material, so a part of a split program
+  // may end after it (docs/krl-templates.md, "Splitting"). (It may start in the cut: a drill's
+  // rapid retract from the hole's bottom.)
+  bool in_air = false;
+};
+
+// Where a split program's parts end (KrlWriter::split()).
+struct KrlSplitReport {
+  int parts = 0;           // 0: one file, not split
+  long program_bytes = 0;  // every .src and .dat of the program (after prepare())
+  // Part boundaries that the byte budget forced where the tool may be in the material (no
+  // rapid or approach within the budget's last quarter): how many, and the CL lines of the
+  // first ones.
+  long mid_cut = 0;
+  std::vector<int> mid_cut_lines;
 };
 
 // "" when `name` can name a KRL program (a letter, then letters, digits and '_', at most 24
@@ -150,6 +168,8 @@ class KrlWriter {
   std::vector<std::string> finish();
 
   int motions() const;
+  // The parts and where they end; program_bytes once prepare() ran.
+  const KrlSplitReport& split() const;
 
  private:
   struct Impl;
