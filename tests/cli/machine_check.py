@@ -31,7 +31,7 @@ STATEMENT_FORMS = [
     r"\$(BASE|TOOL) = (BASE_DATA|TOOL_DATA)\[\d+\]",
     r"\$BASE = EK\(MACHINE_DEF\[\d+\]\.ROOT, MACHINE_DEF\[\d+\]\.MECH_TYPE, BASE_DATA\[\d+\]\)",
     r"\$BASE = EK\(EX_AX_DATA\[\d+\]\.ROOT, EX_AX_DATA\[\d+\]\.EX_KIN, BASE_DATA\[\d+\]\)",
-    r"\$LOAD = LOAD_DATA\[\d+\]",
+    r"\$LOAD = LOAD_DATA\[\d+\]", r"CONTINUE",
     r"\$(ACT_EX_AX|ACT_BASE|ACT_TOOL|ADVANCE) = \d+", r"\$APO\.CDIS = -?\d+\.\d+", r"\$VEL\.CP = \d+\.\d+",
     r"\$ORI_TYPE = #VAR", r"\$CIRC_TYPE = #BASE",
     r"(PTP|LIN|SLIN) \{(E6AXIS|E6POS): [^{}]*\}( C_DIS| C_PTP)?",

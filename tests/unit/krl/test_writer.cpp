@@ -1160,8 +1160,9 @@ TEST_CASE("krl_writer: the base, the tool and its load by number, and the KR C2 
   info.tool_data = 2;
   // KR C4, a static base; the load is the tool's own number unless given.
   CHECK(header("krc4_lin", info) ==
-        std::vector<std::string>{"$BASE = BASE_DATA[4]", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]",
-                                 "$LOAD = LOAD_DATA[2]", "$ACT_TOOL = 2"});
+        std::vector<std::string>{"$BASE = BASE_DATA[4]", "CONTINUE", "$ACT_BASE = 4",
+                                 "$TOOL = TOOL_DATA[2]", "$LOAD = LOAD_DATA[2]", "CONTINUE",
+                                 "$ACT_TOOL = 2"});
   info.load_data = 9;
   info.base_coupled = true;
   info.machine_def = 3;
@@ -1170,8 +1171,8 @@ TEST_CASE("krl_writer: the base, the tool and its load by number, and the KR C2 
   CHECK(header("krc4_spline", info) ==
         std::vector<std::string>{
             "$BASE = EK(MACHINE_DEF[3].ROOT, MACHINE_DEF[3].MECH_TYPE, BASE_DATA[4])",
-            "$ACT_EX_AX = 1", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]", "$LOAD = LOAD_DATA[9]",
-            "$ACT_TOOL = 2"});
+            "$ACT_EX_AX = 1", "CONTINUE", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]",
+            "$LOAD = LOAD_DATA[9]", "CONTINUE", "$ACT_TOOL = 2"});
   // KR C2: the coupled base through EK of the kinematic's EX_AX_DATA entry, not BAS (#BASE, n),
   // which selects a base that does not turn with the table.
   const std::vector<std::string> coupled = header("krc2_lin", info);

@@ -306,9 +306,11 @@ TEST_CASE(
   const Run r = run(drill_job(69.0, 105.0), dir.path, ro);
   // $TOOL, then the load and the number the pendant shows: the table's load for tool 16, the
   // tool's own number for tool 15, which the table gives none.
-  CHECK(r.src.find("$TOOL = TOOL_DATA[3]\r\n$LOAD = LOAD_DATA[3]\r\n$ACT_TOOL = 3\r\n") !=
-        std::string::npos);
-  CHECK(r.src.find("$TOOL = TOOL_DATA[4]\r\n$LOAD = LOAD_DATA[11]\r\n$ACT_TOOL = 4\r\n") !=
+  CHECK(
+      r.src.find("$TOOL = TOOL_DATA[3]\r\n$LOAD = LOAD_DATA[3]\r\nCONTINUE\r\n$ACT_TOOL = 3\r\n") !=
+      std::string::npos);
+  CHECK(r.src.find(
+            "$TOOL = TOOL_DATA[4]\r\n$LOAD = LOAD_DATA[11]\r\nCONTINUE\r\n$ACT_TOOL = 4\r\n") !=
         std::string::npos);
   // The cell's load for every tool the table gives none.
   {
