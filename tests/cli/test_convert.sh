@@ -58,6 +58,20 @@ expect_error() {  # expect_error NAME PATTERN ARGS...
 }
 expect_error missing "nowhere\.apt: no such file" "$work/nowhere.apt" --cell "$cell"
 expect_error directory "is a directory" "$work" --cell "$cell"
+# The KR C4 sets write the numbers of the base and the tool ($ACT_BASE, $ACT_TOOL, $LOAD): an
+# expression that is no BASE_DATA / TOOL_DATA entry has none, and is refused before anything is
+# written; an entry is read with its blanks and case.
+expect_error tool_expression "the tool is not a TOOL_DATA\[n\] entry: give --tool TOOL_DATA\[n\]" \
+  "$src/examples/cl/pocket_arcs.apt" --cell "$cell" --tool 'MY_SPINDLE:TOOL_DATA[2]'
+expect_error base_expression "the base is not a BASE_DATA\[n\] entry: give --base BASE_DATA\[n\]" \
+  "$src/examples/cl/pocket_arcs.apt" --cell "$cell" --base 'BASE_DATA[2]:MY_SHIFT'
+mkdir -p "$work/numbers"
+run numbers convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/numbers" \
+  --name NUMBERS -q --base ' base_data[ 3 ] ' --tool 'TOOL_DATA[2]'
+[ "$rc" -eq 0 ] && grep -q '^\$ACT_BASE = 3' "$work/numbers/NUMBERS.src" &&
+  sed -n '/^\$TOOL = TOOL_DATA\[2\]/,/^\$ACT_TOOL/p' "$work/numbers/NUMBERS.src" | head -4 |
+  tr -d '\r' | paste -sd'|' | grep -qx '\$TOOL = TOOL_DATA\[2\]|\$LOAD = LOAD_DATA\[2\]|CONTINUE|\$ACT_TOOL = 2' &&
+  pass || fail "numbers: exit $rc: $(cat "$work/numbers.err") $(head -24 "$work/numbers/NUMBERS.src")"
 expect_error badcell "no_cell\.xml: no such file" "$src/examples/cl/pocket_arcs.apt" --cell "$work/no_cell.xml"
 printf 'UNITS/MM\nRAPID\nGOTO/-100,-450,100\nGOTO/-100,abc,100\n' >"$work/malformed.apt"
 expect_error malformed "malformed\.apt:4:[0-9]+:" "$work/malformed.apt" --cell "$cell"

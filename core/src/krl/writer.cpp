@@ -454,12 +454,12 @@ void KrlWriter::tool_change(const KrlToolChange& change) {
   v.tool_name = clean;
   v.tool = tool;
   v.tool_data = change.tool_data;
+  v.load_data = change.load_data > 0 ? change.load_data : change.tool_data;
   v.routine = w.info.tool_change_routine;
   // Sets without the newer statements: tool_change alone, as before them.
   const Stmt how =
       manual && w.tpl.has(Stmt::tool_change_manual) ? Stmt::tool_change_manual : Stmt::tool_change;
   w.put(w.src_out, w.out_index, w.render(how, v));
-  v.load_data = change.load_data > 0 ? change.load_data : change.tool_data;
   w.current_tool = {tool, change.tool_data, v.load_data};
   if (w.tpl.has(Stmt::tool_select)) {
     w.tool_state = w.render(Stmt::tool_select, v);
