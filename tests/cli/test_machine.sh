@@ -64,8 +64,22 @@ $py "$SRC/tests/bench/make_raster_apt.py" 60000 "$TMP/zigzag.apt"
 mkdir -p "$TMP/zigzag"
 run convert "$TMP/zigzag.apt" --cell "$cell" -o "$TMP/zigzag" --name ZIGZAG --fit-tol 0
 expect_rc 0
-grep -qE "zigzag.apt: [0-9]+ of the [0-9]+ part boundaries fall where the tool may be in the material \(after CL line [0-9]+" \
+grep -qE "zigzag.apt: [0-9]+ of the [0-9]+ part boundaries fall where the tool may be in the material \(after CL line [0-9]+.*continues the cut without a stop" \
   "$TMP/err" || fail "no warning of boundaries in the cut: $(cat "$TMP/err")"
+# The part after such a boundary continues the cut: its first motion is a LIN (no exact-stop
+# PTP), after no INI fold; the part before ends on a blended LIN. check reads it all, in order.
+zparts=("$TMP/zigzag"/ZIGZAG_P*.src)
+[[ ${#zparts[@]} -ge 2 ]] || fail "the zigzag was not split"
+for ((k = 1; k < ${#zparts[@]}; ++k)); do
+  first=$(grep -m1 -E '^(LIN|PTP) ' "${zparts[k]}")
+  [[ "$first" == LIN* ]] || fail "$(basename "${zparts[k]}") starts with $first"
+  if grep -q "INITMOV" "${zparts[k]}"; then fail "$(basename "${zparts[k]}") has an INI fold"; fi
+  last=$(grep -E '^(LIN|PTP) ' "${zparts[k - 1]}" | tail -1)
+  [[ "$last" == *" C_DIS"* ]] || fail "$(basename "${zparts[k - 1]}") ends on $last"
+done
+run check "$TMP/zigzag"
+expect_rc 0
+$py "$check_py" statements "$TMP/zigzag" >"$TMP/out" 2>&1 || fail "statements: $(cat "$TMP/out")"
 rm -rf "$TMP/zigzag"
 passed
 

@@ -114,13 +114,14 @@ struct StatementSpec {
 const std::vector<StatementSpec>& statement_specs();
 const StatementSpec* find_statement(std::string_view name);
 
-enum class SkeletonKind { src, dat, main_src, main_dat };
+enum class SkeletonKind { src, dat, main_src, main_dat, continued_src };
 struct SkeletonSpec {
   std::string_view kind;  // as in <file kind="...">
   SkeletonKind id;
   PhMask allowed;
-  bool needs_body;  // {body} must stand alone on one line, exactly once ({decls}, where
-                    // allowed, at most once and alone on its line too)
+  bool needs_body;       // {body} must stand alone on one line, exactly once ({decls}, where
+                         // allowed, at most once and alone on its line too)
+  bool required = true;  // a set must have it (continued_src is optional)
 };
 const std::vector<SkeletonSpec>& skeleton_specs();
 const SkeletonSpec* find_skeleton(std::string_view kind);

@@ -125,6 +125,10 @@ const std::vector<SkeletonSpec>& skeleton_specs() {
       {"dat", SkeletonKind::dat, kSkeleton, false},
       {"main_src", SkeletonKind::main_src, kProgram | bit(Ph::body) | bit(Ph::decls), true},
       {"main_dat", SkeletonKind::main_dat, kSkeleton, false},
+      // A part that continues a cut the part before it ended in (docs/krl-templates.md,
+      // "Splitting"): no INI fold and no BCO run, so that the controller blends across the call.
+      {"continued_src", SkeletonKind::continued_src, kProgram | bit(Ph::body) | bit(Ph::frames),
+       true, false},
   };
   return specs;
 }
@@ -417,6 +421,36 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
   }
 }
 
+// A continued part is called between two blended motions: its skeleton may hold nothing that
+// stops the controller's advance run or moves the robot (an INI fold, a wait, a motion).
+void check_continued(const Reader& r, const std::string& text, int first_line) {
+  // PTP_REL and LIN_REL show as PTP and LIN (the word stops at '_').
+  static const std::set<std::string> refused{"PTP", "LIN",  "CIRC", "SCIRC",     "SPLINE", "SLIN",
+                                             "SPL", "HALT", "WAIT", "INTERRUPT", "GLOBAL"};
+  size_t pos = 0;
+  for (int line = first_line;; ++line) {
+    const size_t nl = text.find('\n', pos);
+    const std::string l = text.substr(pos, nl == std::string::npos ? nl : nl - pos);
+    const size_t b = l.find_first_not_of(" \t");
+    std::string word;
+    for (size_t i = b;
+         i != std::string::npos && i < l.size() && std::isalpha(static_cast<unsigned char>(l[i]));
+         ++i)
+      word += static_cast<char>(std::toupper(static_cast<unsigned char>(l[i])));
+    const bool ini = l.find("#INITMOV") != std::string::npos;
+    if (refused.count(word) || ini) {
+      r.fail(line,
+             "<file kind=\"continued_src\"> is called between two blended motions: it may "
+             "not hold " +
+                 (ini ? std::string("BAS (#INITMOV)") : word) +
+                 " (an INI fold, a wait or a motion stops the advance run)");
+    }
+    if (nl == std::string::npos)
+      break;
+    pos = nl + 1;
+  }
+}
+
 // <statement name="...">: a known statement, once, with the placeholders it may use.
 void read_statement(const Reader& r, const XMLElement* e, KrlTemplateSet& set,
                     std::map<std::string, int>& statement_line,
@@ -508,11 +542,15 @@ std::string with_samples(std::string_view text, std::string_view text_sample = "
 void check_fixed_text(const Reader& r, const KrlTemplateSet& set,
                       const std::map<std::string, int>& skeleton_line,
                       const std::map<std::string, int>& statement_line) {
-  const std::pair<const char*, const std::string*> skeletons[] = {{"src", &set.src_file},
-                                                                  {"dat", &set.dat_file},
-                                                                  {"main_src", &set.main_src_file},
-                                                                  {"main_dat", &set.main_dat_file}};
+  const std::pair<const char*, const std::string*> skeletons[] = {
+      {"src", &set.src_file},
+      {"dat", &set.dat_file},
+      {"main_src", &set.main_src_file},
+      {"main_dat", &set.main_dat_file},
+      {"continued_src", &set.continued_src_file}};
   for (const auto& [kind, text] : skeletons) {
+    if (!skeleton_line.count(kind))
+      continue;  // an optional file the set does not have
     const std::vector<KrlFinding> found =
         check_krl_text(set.source_file, with_samples(*text), {}, KrlCheckOptions{});
     if (!found.empty())
@@ -607,6 +645,46 @@ int skeleton_advance(const std::string& text) {
   return found;
 }
 
+// <file kind="...">: a skeleton, once per kind, with the placeholders its kind may use.
+void read_file_element(const Reader& r, const XMLElement* e, KrlTemplateSet& set,
+                       std::set<std::string>& files_seen,
+                       std::map<std::string, int>& skeleton_line) {
+  r.only_attributes(e, {"kind"});
+  const std::string kind = r.required(e, "kind");
+  const krl::SkeletonSpec* spec = krl::find_skeleton(kind);
+  if (!spec) {
+    r.fail(e, "unknown file kind \"" + kind +
+                  "\" (known: src, dat, main_src, main_dat, continued_src)");
+  }
+  if (!files_seen.insert(kind).second)
+    r.fail(e, "<file kind=\"" + kind + "\"> given twice");
+  int line = 0;
+  const std::string raw = r.text_of(e, line);
+  check_placeholders(r, raw, line, spec->allowed, "<file kind=\"" + kind + "\">");
+  std::string text = clean_skeleton(raw, line);
+  check_block_placeholders(r, text, line, *spec);
+  if (spec->id == krl::SkeletonKind::continued_src)
+    check_continued(r, text, line);
+  skeleton_line[kind] = line;
+  switch (spec->id) {
+    case krl::SkeletonKind::src:
+      set.src_file = std::move(text);
+      break;
+    case krl::SkeletonKind::dat:
+      set.dat_file = std::move(text);
+      break;
+    case krl::SkeletonKind::main_src:
+      set.main_src_file = std::move(text);
+      break;
+    case krl::SkeletonKind::main_dat:
+      set.main_dat_file = std::move(text);
+      break;
+    case krl::SkeletonKind::continued_src:
+      set.continued_src_file = std::move(text);
+      break;
+  }
+}
+
 }  // namespace
 
 KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::string& source_name) {
@@ -669,34 +747,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
       timing = e;
       read_timing(r, e, set);
     } else if (n == "file") {
-      r.only_attributes(e, {"kind"});
-      const std::string kind = r.required(e, "kind");
-      const krl::SkeletonSpec* spec = krl::find_skeleton(kind);
-      if (!spec) {
-        r.fail(e, "unknown file kind \"" + kind + "\" (known: src, dat, main_src, main_dat)");
-      }
-      if (!files_seen.insert(kind).second)
-        r.fail(e, "<file kind=\"" + kind + "\"> given twice");
-      int line = 0;
-      const std::string raw = r.text_of(e, line);
-      check_placeholders(r, raw, line, spec->allowed, "<file kind=\"" + kind + "\">");
-      std::string text = clean_skeleton(raw, line);
-      check_block_placeholders(r, text, line, *spec);
-      skeleton_line[kind] = line;
-      switch (spec->id) {
-        case krl::SkeletonKind::src:
-          set.src_file = std::move(text);
-          break;
-        case krl::SkeletonKind::dat:
-          set.dat_file = std::move(text);
-          break;
-        case krl::SkeletonKind::main_src:
-          set.main_src_file = std::move(text);
-          break;
-        case krl::SkeletonKind::main_dat:
-          set.main_dat_file = std::move(text);
-          break;
-      }
+      read_file_element(r, e, set, files_seen, skeleton_line);
     } else if (n == "statement") {
       read_statement(r, e, set, statement_line, statement_text_line);
     } else {
@@ -709,7 +760,7 @@ KrlTemplateSet parse_krl_templates(const std::string& xml_text, const std::strin
   if (!numbers)
     r.fail(root, "<krl-templates> needs a <numbers> element");
   for (const krl::SkeletonSpec& s : krl::skeleton_specs()) {
-    if (!files_seen.count(std::string(s.kind)))
+    if (s.required && !files_seen.count(std::string(s.kind)))
       r.fail(root, "<krl-templates> needs a <file kind=\"" + std::string(s.kind) + "\">");
   }
   check_statements(r, root, set, statement_line);

@@ -280,14 +280,24 @@ void KrlWriter::Impl::require_velocity() const {
   }
 }
 
-// A part starts where the previous one ended, in the same state, so it can run alone.
-void KrlWriter::Impl::restate() {
-  if (!src_has_frames)  // {frames} in the part's header has set $TOOL already
+// A part starts where the previous one ended, in the same state, so it can run alone. A part
+// that continues a cut restates only the frames: a tool's $TOOL and $LOAD are what KUKA's own
+// inline motions set between blended motions (BAS (#FRAMES)); the spindle and coolant are the
+// cell's outputs, which may stop the advance run, and stay as they are.
+void KrlWriter::Impl::restate(bool continued) {
+  bool has_frames = false;
+  for (const krl::SkeletonLine& l : *module_src)
+    has_frames = has_frames || l.block == krl::Ph::frames;
+  // {frames} in the part's header has set $TOOL already. A set without tool_select restates the
+  // tool change itself: never in a cut.
+  if (!has_frames && (!continued || tpl.has(Stmt::tool_select)))
     put(src_out, out_index, tool_state);
+  vel_written.clear();  // the part's INI reset $VEL.CP; a continued part states it again
+  if (continued)
+    return;
   put(src_out, out_index, spindle_state);
   put(src_out, out_index, coolant_state);
   bco_ptp(last_axes);
-  vel_written.clear();  // the part's INI reset $VEL.CP
 }
 
 KrlWriter::KrlWriter(const KrlTemplateSet& templates, const KrlProgramInfo& info)
@@ -353,9 +363,7 @@ void KrlWriter::motion(const KrlMotion& m) {
   }
 
   if (w.info.motions_per_file > 0 && w.motions_in_module == w.info.motions_per_file) {
-    w.close_module();
-    w.next_part();
-    w.restate();
+    w.end_part();
   } else if (w.last_in_air && w.part_nearly_full()) {
     // Out of the material (where a rapid or an approach ended; a rapid may start in the cut, a
     // drill's retract from the hole's bottom): the part ends here rather than later in a cut,

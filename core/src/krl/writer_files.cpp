@@ -176,23 +176,25 @@ size_t KrlWriter::Impl::body_line(const krl::Skeleton& sk) const {
   return sk.size();
 }
 
-void KrlWriter::Impl::open_module(const std::string& name) {
+void KrlWriter::Impl::open_module(const std::string& name, bool continued) {
   write_dat(name, tpl.dat, "file dat");
   module = name;
   header_tool = current_tool;
+  module_src = continued ? &tpl.continued_src : &tpl.src;
+  const krl::Skeleton& sk = *module_src;
   out_index = create(name + ".src", src_out);
   module_bytes = 0;
-  put_skeleton(src_out, out_index, tpl.src, 0, "file src", [](Ph) {});
+  put_skeleton(src_out, out_index, sk, 0, continued ? "file continued_src" : "file src", [](Ph) {});
   header_bytes = module_bytes;
   // What close_module() will add: the skeleton after {body} (it names only this module).
   footer_bytes = 0;
-  for (size_t i = body_line(tpl.src) + 1; i < tpl.src.size(); ++i) {
+  for (size_t i = body_line(sk) + 1; i < sk.size(); ++i) {
     line.clear();
-    if (tpl.src[i].block == Ph::frames) {
+    if (sk[i].block == Ph::frames) {
       line = frames_text(header_tool);
     } else {
       current = "file src";
-      render_into(line, tpl.src[i].text, Values{});
+      render_into(line, sk[i].text, Values{});
     }
     footer_bytes += static_cast<long>(line.size() + krl::kEol.size());
   }
@@ -201,11 +203,11 @@ void KrlWriter::Impl::open_module(const std::string& name) {
 
 void KrlWriter::Impl::close_module() {
   end_spline();
-  put_skeleton(src_out, out_index, tpl.src, body_line(tpl.src) + 1, "file src", [](Ph) {});
+  put_skeleton(src_out, out_index, *module_src, body_line(*module_src) + 1, "file src", [](Ph) {});
   close(src_out, out_index);
 }
 
-void KrlWriter::Impl::next_part() {
+void KrlWriter::Impl::next_part(bool continued) {
   if (static_cast<int>(parts.size()) == krl::kMaxParts) {
     throw Error(ErrorCode::bad_input,
                 fmt::format("program '{}' needs more than {} parts ({} motions or {} bytes "
@@ -213,7 +215,7 @@ void KrlWriter::Impl::next_part() {
                             info.name, krl::kMaxParts, info.motions_per_file, budget));
   }
   parts.push_back(fmt::format("{}{}{:03}", info.name, krl::kPartInfix, parts.size() + 1));
-  open_module(parts.back());
+  open_module(parts.back(), continued);
 }
 
 // A part ends before `needed` more bytes would take its .src beyond the budget. The slack covers
@@ -225,12 +227,7 @@ void KrlWriter::Impl::ensure_room(long needed) {
   if (module_bytes + needed + footer_bytes + kSlack <= budget)
     return;
   // No place out of the material came in the budget's last quarter: the part ends here, after a
-  // motion that may end in the cut, and the next starts there with its PTP (an exact stop).
-  if (!last_in_air) {
-    if (split.mid_cut_lines.size() < 10)
-      split.mid_cut_lines.push_back(last_cl_line);
-    ++split.mid_cut;
-  }
+  // motion that may end in the cut (end_part() continues the cut if the set can).
   end_part();
 }
 
@@ -238,12 +235,25 @@ bool KrlWriter::Impl::part_nearly_full() const {
   return budget > 0 && have_last && 4 * (module_bytes + footer_bytes) >= 3 * budget;
 }
 
+// After a motion out of the material the next part starts as a program of its own: it restates
+// the tool, spindle and coolant and starts with its BCO run, a PTP to where the robot stands (an
+// exact stop, out of the cut). After a motion that may end in the cut it continues the cut: with
+// the set's continued_src, no BCO run and nothing that stops the advance run, so the controller
+// blends across the call; without one, as a program of its own (a stop in the cut).
 void KrlWriter::Impl::end_part() {
+  const bool in_cut = !last_in_air;
+  const bool continued = in_cut && !tpl.continued_src.empty();
+  if (in_cut) {
+    if (split.mid_cut_lines.size() < 10)
+      split.mid_cut_lines.push_back(last_cl_line);
+    ++split.mid_cut;
+    split.continued += continued ? 1 : 0;
+  }
   if (parts.empty())
     promote_first_module();
   close_module();
-  next_part();
-  restate();
+  next_part(continued);
+  restate(continued);
 }
 
 // The program outgrew one file: what was written as NAME becomes its first part, NAME_P001.

@@ -63,6 +63,7 @@ struct KrlWriter::Impl {
   long module_bytes = 0;
   long header_bytes = 0;
   long footer_bytes = 0;
+  const krl::Skeleton* module_src = nullptr;  // the current .src's skeleton (src, continued_src)
 
   // Where parts ended (KrlWriter::split()); whether the last motion ended out of the material.
   KrlSplitReport split;
@@ -164,9 +165,10 @@ struct KrlWriter::Impl {
                       std::string_view file_kind, Block&& block);
   void write_dat(const std::string& name, const krl::Skeleton& sk, std::string_view kind);
   size_t body_line(const krl::Skeleton& sk) const;
-  void open_module(const std::string& name);
+  // A program, or a part; `continued`: a part that continues the cut (continued_src).
+  void open_module(const std::string& name, bool continued = false);
   void close_module();
-  void next_part();
+  void next_part(bool continued = false);
   // $BASE and $TOOL for a {frames} line: base_static or base_coupled, then tool_select.
   std::string frames_text(const ToolInForce& tool);
   // A number of the controller's data ({tool_data}, {load_data}, {base_data}), which a set may
@@ -199,7 +201,9 @@ struct KrlWriter::Impl {
   Values pose_values(const KrlMotion& m);
   void flush_velocity();
   void require_velocity() const;  // a feed move needs a velocity() before it
-  void restate();
+  // What a new part writes before its first motion; `continued`: only what cannot stop the
+  // advance run (the skeleton's frames, or the tool without them).
+  void restate(bool continued = false);
 };
 
 }  // namespace redpost

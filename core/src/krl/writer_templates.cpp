@@ -109,6 +109,10 @@ CompiledTemplates compile_templates(const KrlTemplateSet& templates) {
   out.dat = compile_skeleton(templates, templates.dat_file, "dat", out.wants_date);
   out.main_src = compile_skeleton(templates, templates.main_src_file, "main_src", out.wants_date);
   out.main_dat = compile_skeleton(templates, templates.main_dat_file, "main_dat", out.wants_date);
+  if (!templates.continued_src_file.empty()) {
+    out.continued_src =
+        compile_skeleton(templates, templates.continued_src_file, "continued_src", out.wants_date);
+  }
   return out;
 }
 

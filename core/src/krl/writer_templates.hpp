@@ -90,6 +90,7 @@ struct CompiledTemplates {
   std::array<Compiled, static_cast<size_t>(Stmt::count_)> stmt;   // empty where not used
   std::array<bool, static_cast<size_t>(Stmt::count_)> present{};  // the set has it
   Skeleton src, dat, main_src, main_dat;
+  Skeleton continued_src;   // empty: the set has none
   bool wants_date = false;  // a skeleton line has {date}
 
   const Compiled& operator[](Stmt s) const { return stmt[static_cast<size_t>(s)]; }

@@ -670,14 +670,21 @@ void PostSession::Impl::warn_about_parts() {
     std::string lines;
     for (std::size_t i = 0; i < split.mid_cut_lines.size(); ++i)
       lines += fmt::format("{}{}", i > 0 ? ", " : "", split.mid_cut_lines[i]);
+    // With the set's continued_src the part after such a boundary continues the cut, blended
+    // (KrlWriter: end_part); without one it starts with the BCO run's exact-stop PTP.
+    const std::string after =
+        split.continued == split.mid_cut
+            ? "the part after each continues the cut without a stop (blended across the call: it "
+              "has no INI fold and no BCO run, and runs only after the part before it)"
+            : "the next part starts there with an exact-stop PTP, which may mark the surface (the "
+              "template set has no continued_src file)";
     summary.warnings.push_back(fmt::format(
         "{}: {} of the {} part boundaries fall where the tool may be in the material (after CL "
         "line {}{}): no rapid or approach came in the last quarter of the part's byte budget, so "
-        "the next part starts there with an exact-stop PTP, which may mark the surface; let the "
-        "CAM system retract more often, or raise --max-bytes (docs/krl-templates.md, "
+        "{}; let the CAM system retract more often, or raise --max-bytes (docs/krl-templates.md, "
         "\"Splitting\")",
         o.source_name, split.mid_cut, split.parts - 1, lines,
-        split.mid_cut > static_cast<long>(split.mid_cut_lines.size()) ? ", ..." : ""));
+        split.mid_cut > static_cast<long>(split.mid_cut_lines.size()) ? ", ..." : "", after));
   }
   if (program_memory_bytes > 0 && split.program_bytes > program_memory_bytes) {
     summary.warnings.push_back(fmt::format(

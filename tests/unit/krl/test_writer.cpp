@@ -301,6 +301,15 @@ TEST_CASE("krl_writer: bad template files are refused with file:line") {
                    "<limits program-memory=\"3000000\"/><limits max-bytes=\"65536\"/>");
     expect_error(bad, 0, "<limits> given twice");
   }
+  SECTION("a continued part that would stop the advance run or move") {
+    const std::string marker = "; continues the cut where the part before it ended";
+    std::string bad = replaced(good, marker, "WAIT SEC 0\n" + marker);
+    expect_error(bad, line_of(bad, "WAIT SEC 0"), "may not hold WAIT");
+    bad = replaced(good, marker, "BAS (#INITMOV,1 )\n" + marker);
+    expect_error(bad, line_of(bad, "#INITMOV,1"), "#INITMOV");
+    bad = replaced(good, marker, "  ptp {E6AXIS: A1 0}\n" + marker);
+    expect_error(bad, line_of(bad, "ptp {E6AXIS"), "may not hold PTP");
+  }
   SECTION("an interpolation cycle out of range") {
     const std::string bad = replaced(good, "<timing ptp-velocity=\"20\"/>",
                                      "<timing ptp-velocity=\"20\" interpolation-cycle=\"0\"/>");
@@ -755,7 +764,9 @@ TEST_CASE("krl_writer: splitting into a main program and parts") {
   TempDir dir;
   KrlProgramInfo info = info_for(dir, "BIGJOB");
   info.motions_per_file = 1000;
-  const std::vector<KrlMotion> motions = make_motions(cell, 2500, 77, 0);
+  std::vector<KrlMotion> motions = make_motions(cell, 2500, 77, 0);
+  // Each part ends out of the material: the next runs alone (the test below: in the cut).
+  motions[999].in_air = motions[1999].in_air = true;
   const std::vector<std::string> paths = write_program(set, info, motions);
 
   CHECK(dir.names() == std::vector<std::string>{"BIGJOB.dat", "BIGJOB.src", "BIGJOB_P001.dat",
@@ -853,6 +864,7 @@ TEST_CASE("krl_writer: a part ends after a rapid once three quarters full; else 
     int parts = 0, after_rapid = 0, in_cut = 0;
     std::vector<int> cut_lines;
     size_t given = 0;
+    bool continues = false;  // the part continues the cut of the one before (no restating PTP)
     for (int p = 1;; ++p) {
       const fs::path src = dir.path / fmt::format("AIR_P{:03}.src", p);
       if (!fs::exists(src))
@@ -860,12 +872,17 @@ TEST_CASE("krl_writer: a part ends after a rapid once three quarters full; else 
       const std::vector<std::string> lines = split_lines(read_bytes(src));
       CHECK(static_cast<long>(fs::file_size(src)) <= info.max_file_bytes);
       const auto ml = motion_lines(lines);
-      // A part after the first starts with the PTP that restates where the last one ended.
-      given += ml.size() - (p > 1 ? 1 : 0);
+      // A part after the first starts with the PTP that restates where the last one ended,
+      // unless it continues a cut.
+      CHECK(continues == std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
+              return l.rfind("; continues the cut", 0) == 0;
+            }));
+      given += ml.size() - (p > 1 && !continues ? 1 : 0);
       ++parts;
       if (given >= motions.size())
         break;
       const KrlMotion& last = motions[given - 1];
+      continues = !last.in_air;
       if (last.in_air) {
         ++after_rapid;
       } else {
@@ -885,6 +902,87 @@ TEST_CASE("krl_writer: a part ends after a rapid once three quarters full; else 
     if (every == 40)
       CHECK(after_rapid > 0);
     CHECK(parts >= 3);
+  }
+}
+
+TEST_CASE("krl_writer: a part that starts in the cut continues it without a stop") {
+  // Every motion in the cut, parts of 16 KiB (or of 150 motions): each part after the first has
+  // no INI fold, no BCO run and no restated spindle or coolant; its first motion is the next
+  // motion given, and the part before ends on a blended motion. A set without continued_src
+  // writes the old exact-stop PTP instead.
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  for (const char* set_name : {"krc4_lin", "krc2_lin", "krc4_circ", "krc4_spline"}) {
+    for (const bool by_count : {false, true}) {
+      for (const bool without : {false, true}) {
+        INFO(set_name << (by_count ? ", 150 motions a part" : ", 16 KiB a part")
+                      << (without ? ", no continued_src" : ""));
+        KrlTemplateSet set = load_krl_templates(template_path(set_name));
+        if (without)
+          set.continued_src_file.clear();
+        TempDir dir;
+        KrlProgramInfo info = info_for(dir, "CUT");
+        info.max_file_bytes = by_count ? 0 : 16 * 1024;
+        info.motions_per_file = by_count ? 150 : 0;
+        const std::vector<KrlMotion> motions = make_motions(cell, 500, 5);
+        KrlSplitReport report;
+        {
+          KrlWriter w(set, info);
+          w.spindle(9000, true);
+          w.coolant(true, "FLOOD");
+          w.velocity(0.02);
+          for (const KrlMotion& m : motions)
+            w.motion(m);
+          w.prepare();
+          report = w.split();
+          w.finish();
+        }
+        REQUIRE(report.parts >= 3);
+        CHECK(report.mid_cut == report.parts - 1);
+        CHECK(report.continued == (without ? 0 : report.mid_cut));
+        size_t given = 0;
+        for (int p = 1; p <= report.parts; ++p) {
+          INFO("part " << p);
+          const std::string text = read_bytes(dir.path / fmt::format("CUT_P{:03}.src", p));
+          const std::vector<std::string> lines = split_lines(text);
+          std::vector<MotionLine> ml = motion_lines(lines);
+          REQUIRE(!ml.empty());
+          const bool continues = p > 1 && !without;
+          CHECK((text.find("BAS (#INITMOV") == std::string::npos) == continues);
+          CHECK((text.find("; SPINDLE ON 9000 rpm") == std::string::npos) == continues);
+          CHECK((text.find("; BCO run") == std::string::npos) == continues);
+          CHECK(text.find("$TOOL = TOOL_DATA[1]") != std::string::npos);
+          if (p > 1 && without) {
+            // The restating PTP to where the part before ended, then the next motion.
+            CHECK(ml[0].command == "PTP");
+            check_axes(ml[0], motions[given - 1].axes, true);
+            ml.erase(ml.begin());
+          }
+          if (p == 1) {
+            CHECK(ml[0].command == "PTP");
+            ml.erase(ml.begin());
+            ++given;
+          }
+          // CIRC lines are not among motion_lines(): the shipped circ set writes a LIN where
+          // no arc was fitted, as here (random postures).
+          for (const MotionLine& l : ml) {
+            REQUIRE(given < motions.size());
+            CHECK(l.command != "PTP");
+            check_pose(l, motions[given++]);
+          }
+          if (p < report.parts) {
+            // The last statement of the part is blended: C_DIS, or the spline block's end with
+            // its approximation.
+            const auto end = std::find(lines.rbegin(), lines.rend(), "END");
+            REQUIRE(end != lines.rend());
+            const std::string& last = *std::next(end);
+            INFO(last);
+            CHECK((last.size() > 6 &&
+                   (last.substr(last.size() - 6) == " C_DIS" || last == "ENDSPLINE C_SPL")));
+          }
+        }
+        CHECK(given == motions.size());
+      }
+    }
   }
 }
 
@@ -1085,7 +1183,8 @@ TEST_CASE("krl_writer: process statements, and their restatement at the start of
   TempDir dir;
   KrlProgramInfo info = info_for(dir, "PROC");
   info.motions_per_file = 5;
-  const std::vector<KrlMotion> motions = make_motions(cell, 8, 2);
+  std::vector<KrlMotion> motions = make_motions(cell, 8, 2);
+  motions[4].in_air = true;  // part 1 ends out of the material: part 2 runs alone
   {
     KrlWriter w(set, info);
     KrlToolChange change;

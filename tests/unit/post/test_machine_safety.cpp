@@ -410,8 +410,8 @@ TEST_CASE(
 // --- program size -----------------------------------------------------------------------------
 
 TEST_CASE(
-    "machine: a program over the byte budget is split into parts within it, each running "
-    "alone",
+    "machine: a program over the byte budget is split into parts within it, each continuing the "
+    "cut",
     "[machine]") {
   std::string cl = "UNITS/MM\nLOADTL/1\nFEDRAT/600,MMPM\nGOTO/-150.,-450.,40.\n";
   for (int k = 0; k < 600; ++k)
@@ -430,15 +430,18 @@ TEST_CASE(
   }
   CHECK(parts >= 3);
   CHECK(r.src.find("PROG_P001( )") != std::string::npos);
-  // Every part starts with the tool and a PTP to the full posture.
+  // The zigzag never leaves the material: every part after the first continues the cut, with
+  // the tool set and no PTP (which would stop the tool on the surface).
   const std::string p2 = read_text_file((dir.path / "PROG_P002.src").string());
-  CHECK(p2.find("$TOOL = TOOL_DATA[1]") < p2.find("PTP {E6AXIS"));
-  // The whole program has every motion once: parts' motions minus their restating PTPs.
+  CHECK(p2.find("$TOOL = TOOL_DATA[1]") < p2.find("LIN {E6POS"));
+  CHECK(p2.find("PTP {") == std::string::npos);
+  CHECK(p2.find("; continues the cut") != std::string::npos);
+  // The whole program has every motion once.
   size_t motions = 0;
   for (int p = 1; p <= parts; ++p) {
     const std::string text =
         read_text_file((dir.path / ("PROG_P00" + std::to_string(p) + ".src")).string());
-    motions += motion_keywords(text).size() - (p > 1 ? 1 : 0);
+    motions += motion_keywords(text).size();
   }
   CHECK(motions == r.q.size());
 

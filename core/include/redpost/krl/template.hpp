@@ -31,6 +31,11 @@ struct KrlTemplateSet {
   // docs/krl-templates.md).
   std::string src_file, dat_file;            // a program (the main one, or a part)
   std::string main_src_file, main_dat_file;  // the main program of a split program
+  // Optional: a part that continues the cut the part before it ended in, where the byte budget
+  // found no place out of the material. Without the INI fold and the BCO run of src_file, so
+  // that the controller blends the last motion of the part before into its first (empty: such
+  // a part is written with src_file and starts with an exact-stop PTP).
+  std::string continued_src_file;
 
   // Statement formats, by name: "ptp_axes", "lin", "rapid", "vel", "comment", "cl_line",
   // "tool_change", "spindle_on", "spindle_off", "coolant_on", "coolant_off", "literal",

@@ -112,6 +112,9 @@ struct KrlSplitReport {
   // first ones.
   long mid_cut = 0;
   std::vector<int> mid_cut_lines;
+  // Of those, the parts that continue the cut without a stop (the set's continued_src); the
+  // others start with an exact-stop PTP.
+  long continued = 0;
 };
 
 // "" when `name` can name a KRL program (a letter, then letters, digits and '_', at most 24
