@@ -1269,7 +1269,7 @@ TEST_CASE("krl_writer: the base, the tool and its load by number, and the KR C2 
   info.ex_axes = 1;
   CHECK(header("krc4_spline", info) ==
         std::vector<std::string>{
-            "$BASE = EK(MACHINE_DEF[3].ROOT, MACHINE_DEF[3].MECH_TYPE, BASE_DATA[4])",
+            "$BASE = EK(MACHINE_DEF[3].ROOT, MACHINE_DEF[3].MECH_TYPE, BASE_DATA[4])", "CONTINUE",
             "$ACT_EX_AX = 1", "CONTINUE", "$ACT_BASE = 4", "$TOOL = TOOL_DATA[2]",
             "$LOAD = LOAD_DATA[9]", "CONTINUE", "$ACT_TOOL = 2"});
   // KR C2: the coupled base through EK of the kinematic's EX_AX_DATA entry, not BAS (#BASE, n),
@@ -1277,7 +1277,20 @@ TEST_CASE("krl_writer: the base, the tool and its load by number, and the KR C2 
   const std::vector<std::string> coupled = header("krc2_lin", info);
   CHECK(coupled == std::vector<std::string>{
                        "$BASE = EK(EX_AX_DATA[2].ROOT, EX_AX_DATA[2].EX_KIN, BASE_DATA[4])",
-                       "$ACT_EX_AX = 1", "$TOOL = TOOL_DATA[2]"});
+                       "CONTINUE", "$ACT_EX_AX = 1", "$TOOL = TOOL_DATA[2]"});
+  // As KUKA's BAS.SRC writes them, every $ACT_* assignment follows a CONTINUE: without it the
+  // assignment stops the advance run, and a part that continues a cut would stop in it.
+  for (const char* set_name : {"krc4_lin", "krc4_circ", "krc4_spline", "krc2_lin"}) {
+    for (const bool coupled_base : {true, false}) {
+      info.base_coupled = coupled_base;
+      const std::vector<std::string> lines = header(set_name, info);
+      for (size_t k = 0; k < lines.size(); ++k) {
+        INFO(set_name << ": " << lines[k]);
+        if (lines[k].rfind("$ACT_", 0) == 0)
+          CHECK((k > 0 && lines[k - 1] == "CONTINUE"));
+      }
+    }
+  }
   info.base_coupled = false;
   const std::vector<std::string> fixed = header("krc2_lin", info);
   CHECK(fixed == std::vector<std::string>{"$BASE = BASE_DATA[4]", "$TOOL = TOOL_DATA[2]"});
