@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace redpost::krl {
@@ -154,6 +155,11 @@ void append_fixed(std::string& out, double value, int decimals, std::string_view
 // The KRL identifier rule (letter first, then letters, digits, '_'; at most 24 characters) and
 // a few reserved words. Returns an empty string if `name` is fine, else why not.
 std::string identifier_problem(std::string_view name);
+
+// What a continued_src skeleton may not hold (it is called between two blended motions): a
+// motion, a wait, a HALT, an interrupt declaration or BAS (#INITMOV). The 0-based line of the
+// first such line and what it holds, or {-1, ""}.
+std::pair<int, std::string> continued_problem(std::string_view text);
 inline constexpr std::size_t kMaxIdentifierLength = 24;
 
 }  // namespace redpost::krl

@@ -196,6 +196,30 @@ void append_fixed(std::string& out, double value, int decimals, std::string_view
   }
 }
 
+std::pair<int, std::string> continued_problem(std::string_view text) {
+  // PTP_REL and LIN_REL show as PTP and LIN (the word stops at '_').
+  static const std::set<std::string, std::less<>> refused{"PTP",    "LIN",       "CIRC",  "SCIRC",
+                                                          "SPLINE", "SLIN",      "SPL",   "HALT",
+                                                          "WAIT",   "INTERRUPT", "GLOBAL"};
+  size_t pos = 0;
+  for (int line = 0;; ++line) {
+    const size_t nl = text.find('\n', pos);
+    const std::string_view l = text.substr(pos, nl == std::string_view::npos ? nl : nl - pos);
+    std::string word;
+    for (size_t i = l.find_first_not_of(" \t"); i != std::string_view::npos && i < l.size() &&
+                                                std::isalpha(static_cast<unsigned char>(l[i]));
+         ++i)
+      word += static_cast<char>(std::toupper(static_cast<unsigned char>(l[i])));
+    if (l.find("#INITMOV") != std::string_view::npos)
+      return {line, "BAS (#INITMOV)"};
+    if (refused.count(word))
+      return {line, word};
+    if (nl == std::string_view::npos)
+      return {-1, ""};
+    pos = nl + 1;
+  }
+}
+
 std::string identifier_problem(std::string_view name) {
   if (name.empty())
     return "is empty";
@@ -421,33 +445,14 @@ void check_block_placeholders(const Reader& r, const std::string& text, int firs
   }
 }
 
-// A continued part is called between two blended motions: its skeleton may hold nothing that
-// stops the controller's advance run or moves the robot (an INI fold, a wait, a motion).
+// A continued part is called between two blended motions (krl::continued_problem).
 void check_continued(const Reader& r, const std::string& text, int first_line) {
-  // PTP_REL and LIN_REL show as PTP and LIN (the word stops at '_').
-  static const std::set<std::string> refused{"PTP", "LIN",  "CIRC", "SCIRC",     "SPLINE", "SLIN",
-                                             "SPL", "HALT", "WAIT", "INTERRUPT", "GLOBAL"};
-  size_t pos = 0;
-  for (int line = first_line;; ++line) {
-    const size_t nl = text.find('\n', pos);
-    const std::string l = text.substr(pos, nl == std::string::npos ? nl : nl - pos);
-    const size_t b = l.find_first_not_of(" \t");
-    std::string word;
-    for (size_t i = b;
-         i != std::string::npos && i < l.size() && std::isalpha(static_cast<unsigned char>(l[i]));
-         ++i)
-      word += static_cast<char>(std::toupper(static_cast<unsigned char>(l[i])));
-    const bool ini = l.find("#INITMOV") != std::string::npos;
-    if (refused.count(word) || ini) {
-      r.fail(line,
-             "<file kind=\"continued_src\"> is called between two blended motions: it may "
-             "not hold " +
-                 (ini ? std::string("BAS (#INITMOV)") : word) +
-                 " (an INI fold, a wait or a motion stops the advance run)");
-    }
-    if (nl == std::string::npos)
-      break;
-    pos = nl + 1;
+  const auto [line, what] = krl::continued_problem(text);
+  if (line >= 0) {
+    r.fail(first_line + line,
+           "<file kind=\"continued_src\"> is called between two blended motions: it may not "
+           "hold " +
+               what + " (an INI fold, a wait or a motion stops the advance run)");
   }
 }
 

@@ -110,6 +110,14 @@ CompiledTemplates compile_templates(const KrlTemplateSet& templates) {
   out.main_src = compile_skeleton(templates, templates.main_src_file, "main_src", out.wants_date);
   out.main_dat = compile_skeleton(templates, templates.main_dat_file, "main_dat", out.wants_date);
   if (!templates.continued_src_file.empty()) {
+    // A set built by hand is held to what the loader refuses (template.cpp).
+    if (const auto [line, what] = continued_problem(templates.continued_src_file); line >= 0) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("template set '{}': file 'continued_src', line {}: it is called "
+                              "between two blended motions and may not hold {}",
+                              templates.name, line + 1, what),
+                  SourceLocation{templates.source_file, 0, 0});
+    }
     out.continued_src =
         compile_skeleton(templates, templates.continued_src_file, "continued_src", out.wants_date);
   }

@@ -1333,6 +1333,10 @@ TEST_CASE("krl_writer: a hand-built template set is checked too, and {date} only
     set = shipped;
     set.src_file = "DEF {name}( )\nEND";  // no {body}
     CHECK_THROWS_AS(KrlWriter(set, info_for(dir, "HAND")), Error);
+    set = shipped;
+    set.continued_src_file = "DEF {name}( )\n  wait sec 0\n{body}\nEND";  // stops the advance run
+    CHECK_THROWS_WITH(KrlWriter(set, info_for(dir, "HAND")),
+                      Catch::Contains("line 2") && Catch::Contains("may not hold WAIT"));
   }
   CHECK(dir.names().empty());
   KrlTemplateSet dated = shipped;
