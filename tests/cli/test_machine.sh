@@ -81,6 +81,13 @@ run check "$TMP/zigzag"
 expect_rc 0
 $py "$check_py" statements "$TMP/zigzag" >"$TMP/out" 2>&1 || fail "statements: $(cat "$TMP/out")"
 rm -rf "$TMP/zigzag"
+# --split N: the boundaries fall every N motions, and the warning says that, not the budget.
+mkdir -p "$TMP/every"
+run convert "$SRC/examples/cl/long_pass.apt" --cell "$cell" -o "$TMP/every" --split 150 --fit-tol 0
+expect_rc 0
+grep -q "2 of the 2 part boundaries fall where the tool may be in the material (after CL line [0-9]*, [0-9]*): --split 150 ends a part after every 150 motions, so the part after each continues the cut without a stop" \
+  "$TMP/err" || fail "no --split warning: $(cat "$TMP/err")"
+rm -rf "$TMP/every"
 passed
 
 begin "a program above the old 16 MiB limit is read by check (too large: a finding) and diff"

@@ -678,13 +678,19 @@ void PostSession::Impl::warn_about_parts() {
               "has no INI fold and no BCO run, and runs only after the part before it)"
             : "the next part starts there with an exact-stop PTP, which may mark the surface (the "
               "template set has no continued_src file)";
+    // --split N ends a part after every N motions, wherever the tool is.
+    const bool by_count = o.program.motions_per_file > 0;
     summary.warnings.push_back(fmt::format(
         "{}: {} of the {} part boundaries fall where the tool may be in the material (after CL "
-        "line {}{}): no rapid or approach came in the last quarter of the part's byte budget, so "
-        "{}; let the CAM system retract more often, or raise --max-bytes (docs/krl-templates.md, "
-        "\"Splitting\")",
+        "line {}{}): {}, so {}; {} (docs/krl-templates.md, \"Splitting\")",
         o.source_name, split.mid_cut, split.parts - 1, lines,
-        split.mid_cut > static_cast<long>(split.mid_cut_lines.size()) ? ", ..." : "", after));
+        split.mid_cut > static_cast<long>(split.mid_cut_lines.size()) ? ", ..." : "",
+        by_count ? fmt::format("--split {} ends a part after every {} motions",
+                               o.program.motions_per_file, o.program.motions_per_file)
+                 : "no rapid or approach came in the last quarter of the part's byte budget",
+        after,
+        by_count ? "leave --split out to split by bytes at rapids"
+                 : "let the CAM system retract more often, or raise --max-bytes"));
   }
   if (program_memory_bytes > 0 && split.program_bytes > program_memory_bytes) {
     summary.warnings.push_back(fmt::format(
