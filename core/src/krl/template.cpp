@@ -538,6 +538,26 @@ std::string with_samples(std::string_view text, std::string_view text_sample = "
   return out;
 }
 
+// The set's text of a file kind: the one place that maps the kinds to the fields.
+std::string& skeleton_text(KrlTemplateSet& set, krl::SkeletonKind kind) {
+  switch (kind) {
+    case krl::SkeletonKind::dat:
+      return set.dat_file;
+    case krl::SkeletonKind::main_src:
+      return set.main_src_file;
+    case krl::SkeletonKind::main_dat:
+      return set.main_dat_file;
+    case krl::SkeletonKind::continued_src:
+      return set.continued_src_file;
+    case krl::SkeletonKind::src:
+      break;
+  }
+  return set.src_file;
+}
+const std::string& skeleton_text(const KrlTemplateSet& set, krl::SkeletonKind kind) {
+  return skeleton_text(const_cast<KrlTemplateSet&>(set), kind);
+}
+
 // The fixed text of every skeleton and statement, with a sample value for each placeholder,
 // must pass the text checks of `redpost check` (identifiers of at most 24 characters, statements
 // it reads, DEF/END and FOLD pairs, declarations first): a program the set writes must not be
@@ -547,20 +567,15 @@ std::string with_samples(std::string_view text, std::string_view text_sample = "
 void check_fixed_text(const Reader& r, const KrlTemplateSet& set,
                       const std::map<std::string, int>& skeleton_line,
                       const std::map<std::string, int>& statement_line) {
-  const std::pair<const char*, const std::string*> skeletons[] = {
-      {"src", &set.src_file},
-      {"dat", &set.dat_file},
-      {"main_src", &set.main_src_file},
-      {"main_dat", &set.main_dat_file},
-      {"continued_src", &set.continued_src_file}};
-  for (const auto& [kind, text] : skeletons) {
-    if (!skeleton_line.count(kind))
+  for (const krl::SkeletonSpec& spec : krl::skeleton_specs()) {
+    const auto at = skeleton_line.find(std::string(spec.kind));
+    if (at == skeleton_line.end())
       continue;  // an optional file the set does not have
-    const std::vector<KrlFinding> found =
-        check_krl_text(set.source_file, with_samples(*text), {}, KrlCheckOptions{});
+    const std::vector<KrlFinding> found = check_krl_text(
+        set.source_file, with_samples(skeleton_text(set, spec.id)), {}, KrlCheckOptions{});
     if (!found.empty())
-      r.fail(skeleton_line.at(kind) + found.front().line - 1,
-             "<file kind=\"" + std::string(kind) + "\">: " + found.front().message +
+      r.fail(at->second + found.front().line - 1,
+             "<file kind=\"" + std::string(spec.kind) + "\">: " + found.front().message +
                  " (redpost check would reject every program of this set)");
   }
   for (const auto& [name, text] : set.statements) {
@@ -671,23 +686,7 @@ void read_file_element(const Reader& r, const XMLElement* e, KrlTemplateSet& set
   if (spec->id == krl::SkeletonKind::continued_src)
     check_continued(r, text, line);
   skeleton_line[kind] = line;
-  switch (spec->id) {
-    case krl::SkeletonKind::src:
-      set.src_file = std::move(text);
-      break;
-    case krl::SkeletonKind::dat:
-      set.dat_file = std::move(text);
-      break;
-    case krl::SkeletonKind::main_src:
-      set.main_src_file = std::move(text);
-      break;
-    case krl::SkeletonKind::main_dat:
-      set.main_dat_file = std::move(text);
-      break;
-    case krl::SkeletonKind::continued_src:
-      set.continued_src_file = std::move(text);
-      break;
-  }
+  skeleton_text(set, spec->id) = std::move(text);
 }
 
 }  // namespace
