@@ -5,7 +5,8 @@
 
 The files are committed; this script documents how they were made and regenerates them
 byte for byte. Coordinates are in the workpiece frame of the Andres cell ({B}: centre of the
-rotary table, z up, table top at z = 0); see docs/cells.md for where the arm can reach.
+rotary table, z up; the part stands on a riser, the table top at z = -250); see docs/cells.md
+for where the arm can reach.
 """
 import math
 import os

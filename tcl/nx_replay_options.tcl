@@ -12,7 +12,8 @@ proc usage {{message ""}} {
         \[--chordal-tol MM\] \[--plan global|local\] \[--preset smooth|stiff|fast\]\
         \[--keyframe-spacing MM\] \[--lock E1=500 ...\] \[--predict-deflection\] \[--compensate\]\
         \[--cutting FILE\] \[--deflection-tol MM\] \[--fit-tol MM\] \[--fit-ang-tol DEG\]\
-        \[--threads N\] \[--lib DIR\] \[--post POST.tcl\] \[-q\] INPUT"
+        \[--threads N\] \[--fixture F.stl\] \[--part F.stl\] \[--collision-margin MM\]\
+        \[--lib DIR\] \[--post POST.tcl\] \[-q\] INPUT"
     exit 1
 }
 
@@ -25,10 +26,10 @@ array set option_setting {
     --preset preset --keyframe-spacing keyframe_spacing --cutting cutting
     --deflection-tol deflection_tol --fit-tol fit_tol --fit-ang-tol fit_ang_tol --threads threads
     --lib lib
-    --lock lock --post post
+    --lock lock --post post --fixture fixture --part part --collision-margin collision_margin
 }
 
-array set opt {quiet 0 lock {} predict_deflection 0 compensate 0}
+array set opt {quiet 0 lock {} fixture {} predict_deflection 0 compensate 0}
 set input ""
 for {set i 0} {$i < $argc} {incr i} {
     set a [lindex $argv $i]
@@ -38,8 +39,8 @@ for {set i 0} {$i < $argc} {incr i} {
         }
         set key $option_setting($a)
         set value [lindex $argv [incr i]]
-        if {$key eq "lock"} {
-            lappend opt(lock) $value
+        if {$key in {lock fixture}} {
+            lappend opt($key) $value
         } else {
             set opt($key) $value
         }
@@ -79,12 +80,14 @@ proc replay_settings {} {
     if {[info exists ::opt(post)]} {
         set ::redpost_settings::source $::input
         foreach key [array names ::opt] {
-            if {$key ni {quiet lib post predict_deflection compensate lock} ||
-                    ($key eq "lock" && [llength $::opt(lock)])} {
+            if {$key ni {quiet lib post predict_deflection compensate lock fixture} ||
+                    ($key in {lock fixture} && [llength $::opt($key)])} {
                 set value $::opt($key)
-                if {$key in {cell output_dir joints_csv report tools cutting} ||
+                if {$key in {cell output_dir joints_csv report tools cutting part} ||
                         ($key eq "krl" && [string match */* $value])} {
                     set value [file normalize $value]
+                } elseif {$key eq "fixture"} {
+                    set value [lmap f $value {file normalize $f}]
                 }
                 set ::redpost_settings::$key $value
             }
@@ -105,7 +108,7 @@ proc replay_settings {} {
             base "" tools "" clearance "" rapid_vel 0.25 max_bytes 0 apo 0.5 split 0
             cl_line_every 50 chordal_tol 0.01 msys ignore plan global preset smooth
             keyframe_spacing 20 cutting "" deflection_tol 0.05 fit_tol 0.01 fit_ang_tol 0.1
-            threads 1} {
+            threads 1 fixture {} part "" collision_margin 5} {
             variable $name $value
         }
     }

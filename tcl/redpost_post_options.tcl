@@ -98,7 +98,16 @@ namespace eval ::redpost_post {
                       -keyframe-spacing [setting keyframe_spacing 20] -lock [setting lock] \
                       -deflection-tol $tol -pipeline [setting pipeline 1] \
                       -fit-tol [setting fit_tol 0.01] -fit-ang-tol [setting fit_ang_tol 0.1] \
-                      -threads [setting threads 1]]
+                      -threads [setting threads 1] \
+                      -collision-margin [setting collision_margin 5]]
+        # The set-up's STL files, relative to the settings file as every path is.
+        set fixtures {}
+        foreach f [setting fixture] {
+            lappend fixtures [setting_path $f]
+        }
+        if {[llength $fixtures]} {
+            lappend opts -fixture $fixtures
+        }
         # --cutting alone asks for the prediction, --compensate implies it (as in convert).
         set cutting [setting cutting]
         if {[setting compensate 0]} {
@@ -107,7 +116,7 @@ namespace eval ::redpost_post {
             lappend opts -deflection predict
         }
         foreach {setting option} {tools -tools joints_csv -joints-csv report -report
-            cutting -cutting} {
+            cutting -cutting part -part} {
             if {[setting $setting] ne ""} {
                 lappend opts $option [setting_path [setting $setting]]
             }

@@ -89,6 +89,15 @@ namespace eval ::redpost_settings {
     # 1 one thread, 0 one per core (at most 8). The program is the same for any count. (--threads)
     variable threads 1
 
+    # Collisions (docs/collision.md): STL files of the set-up in the MCS (mm), as NX exports
+    # them: fixtures {clamp.stl vise.stl}, which nothing moving may come near, and the
+    # finished part, which only the cutter may touch; and the least distance kept between
+    # bodies (mm). The cell's and the tool's bodies are checked always. (--fixture, --part,
+    # --collision-margin)
+    variable fixture {}
+    variable part ""
+    variable collision_margin 5
+
     # Name used in messages and in the program's header. "" : NX's part (mom_part_name).
     variable source ""
 

@@ -64,6 +64,12 @@ struct ConvertOptions {
   bool compensate = false;
   std::string cutting_path;
   double deflection_tolerance_mm = 0.05;
+  // Collisions (docs/collision.md): the set-up's STL files in the CL frame, and the margin.
+  std::vector<std::string> fixtures;
+  std::string part;
+  double collision_margin_mm = 5.0;
+  bool no_collision = false;
+  std::vector<const char*> fixture_pointers;  // into `fixtures`, for rp_options
   bool quiet = false;
 };
 
@@ -183,6 +189,28 @@ void print_deflection(const rp_session* session) {
   }
 }
 
+// The collision check (docs/collision.md): what was checked and the least clearance.
+void print_collisions(const rp_session* session) {
+  rp_collision_summary c{};
+  c.struct_size = sizeof c;
+  if (rp_collision_get(session, &c) != RP_OK)
+    return;
+  if (!c.checked) {
+    fmt::print(
+        "collisions: not checked (no bodies: the cell has no <collision>, no tool "
+        "geometry, no --fixture or --part)\n");
+    return;
+  }
+  const std::string least = std::isfinite(c.least_clearance_mm)
+                                ? fmt::format("{:.1f} mm ({}, CL line {})", c.least_clearance_mm,
+                                              c.least_clearance_pair, c.least_clearance_line)
+                                : fmt::format("more than {:g} mm", c.margin_mm + 25.0);
+  fmt::print(
+      "collisions: {} bodies, {} pairs, at least {:g} mm apart along every motion "
+      "(proven: {:.1f} mm); closest {}\n",
+      c.bodies, c.pairs, c.margin_mm, c.proven_clearance_mm, least);
+}
+
 // The time model (docs/timing.md): cycle time, the axes against their limits, and the
 // stretches where an axis keeps the feed below the CL file's.
 void print_timing(const rp_session* session) {
@@ -277,6 +305,7 @@ void print_summary(const rp_session* session, double seconds) {
                joint_value_text(r, r.margin_lower) + " / " + joint_value_text(r, r.margin_upper));
   }
   print_timing(session);
+  print_collisions(session);
   print_deflection(session);
   for (int i = 0; const char* f = rp_output_file(session, i); ++i)
     fmt::print("wrote {}\n", f);
@@ -338,7 +367,7 @@ void check_outputs(const ConvertOptions& opt, const std::string& name) {
 }
 
 // The session's options from the command line; `o` points into `opt` and `name`.
-void session_options(const ConvertOptions& opt, const std::string& name, rp_options& o) {
+void session_options(ConvertOptions& opt, const std::string& name, rp_options& o) {
   double placement[6] = {0, 0, 0, 0, 0, 0};
   if (!opt.placement.empty())
     parse_placement(opt.placement, placement);
@@ -397,15 +426,23 @@ void session_options(const ConvertOptions& opt, const std::string& name, rp_opti
   o.deflection_tolerance_mm = opt.deflection_tolerance_mm;
   o.msys = opt.msys == "apply" ? RP_MSYS_APPLY : RP_MSYS_IGNORE;
   o.report_path = opt.report_html.empty() ? nullptr : opt.report_html.c_str();
+  o.fixture_paths = opt.fixture_pointers.empty() ? nullptr : opt.fixture_pointers.data();
+  o.fixture_count = static_cast<int>(opt.fixture_pointers.size());
+  o.part_path = opt.part.empty() ? nullptr : opt.part.c_str();
+  o.collision_margin_mm = opt.collision_margin_mm;
+  o.collision_check = opt.no_collision ? 0 : 1;
 }
 
-int run_convert(const ConvertOptions& opt) {
+int run_convert(ConvertOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   // The report is written after the program: a folder that cannot take it must stop the run
   // before the conversion, not after it with the program written and exit code 2.
   if (!opt.report_html.empty())
     check_output_folder(opt.report_html, "--report");
   const std::string name = opt.name.empty() ? program_name_from(opt.input) : opt.name;
+  opt.fixture_pointers.clear();
+  for (const std::string& f : opt.fixtures)
+    opt.fixture_pointers.push_back(f.c_str());
   rp_options o;
   session_options(opt, name, o);
   check_outputs(opt, name);
@@ -558,6 +595,18 @@ Runner add_convert_command(CLI::App& app) {
                 "Tolerance the deflection normal to the wall is judged against, mm (default "
                 "0.05)")
       ->check(CLI::Range(1e-6, 100.0));
+  c->add_option("--fixture", opt->fixtures,
+                "A fixture's STL (ASCII or binary, mm, in the CL frame): no moving body may come "
+                "within the margin of it; may be repeated (docs/collision.md)");
+  c->add_option("--part", opt->part,
+                "The finished part's STL (mm, in the CL frame): only the cutter's flute may "
+                "touch it");
+  c->add_option("--collision-margin", opt->collision_margin_mm,
+                "Least distance kept between bodies that may not touch, mm (default 5)")
+      ->check(CLI::Range(0.0, 1000.0));
+  c->add_flag("--no-collision-check", opt->no_collision,
+              "Check no body at all (the cell's, the tool's, the set-up's): for a cell whose "
+              "bodies are not yet right; the program is then not proven clear");
   c->add_flag("-q,--quiet", opt->quiet, "No progress and no summary");
   return [opt] {
     try {

@@ -109,6 +109,16 @@ typedef struct rp_options {
    * nodes together (docs/redundancy.md, "Threads"). 1 (the default): the calling thread alone;
    * 0: one per core, at most 8. The program is the same, byte for byte, for any count. */
   int plan_threads;
+  /* Appended after plan_threads: collisions (docs/collision.md). The cell's own bodies (its
+   * <collision>) and the tool's (the tool table's geometry, else the CL file's diameter) are
+   * checked along every motion; a motion that brings two bodies closer than the margin is
+   * refused (RP_ERR_UNREACHABLE, the CL line, the two bodies, the distance). A host built
+   * against an older rp_options gets the check with the default margin and no set-up. */
+  const char* const* fixture_paths; /* STL files of fixtures, in the CL frame, mm; NULL: none */
+  int fixture_count;                /* entries of fixture_paths */
+  const char* part_path;            /* STL of the finished part, in the CL frame; NULL: none */
+  double collision_margin_mm;       /* least distance kept between bodies; default 5, 0 to 1000 */
+  int collision_check;              /* 1 (default): check; 0: no body is checked */
 } rp_options;
 
 enum { RP_PLAN_GLOBAL = 0, RP_PLAN_LOCAL = 1 };
@@ -353,6 +363,16 @@ typedef struct rp_motion {
   /* Appended in 0.5 (docs/reports.md, the 3D view): the tool in force at this motion. */
   double tool_length_mm; /* from the spindle's gauge line to the tip; NaN: unknown */
   double tcp_shift_mm;   /* its TCP beyond the chain's TCP (rp_cell_info), along -z of that frame */
+  /* Appended with the collision check (docs/collision.md): the least distance computed between
+   * two bodies that may not touch on this motion (at its end and wherever the check looked
+   * closer; mm, +inf where no pair came within reach of the margin, NaN where nothing is
+   * checked), its pair ("" if none), and where clearance_exact is 1 its nearest points in the CL
+   * frame; and the proven lower bound of every distance along the motion. */
+  double clearance_mm;
+  double clearance_proven_mm;
+  const char* clearance_pair; /* "spindle vs fixture vise.stl"; valid during the call */
+  int clearance_exact;
+  double clearance_point_a[3], clearance_point_b[3];
 } rp_motion;
 
 /* Called once per written motion, once it is timed, on the thread that sent an event. The
@@ -453,6 +473,24 @@ typedef struct rp_deflection_info {
 } rp_deflection_info;
 /* RP_ERR_BAD_INPUT past the last one. */
 RP_API rp_status rp_deflection_get(const rp_session* session, int index, rp_deflection_info* info);
+
+/* The collision check of the program (docs/collision.md), complete after rp_prepare. Appended
+ * with the collision check. */
+typedef struct rp_collision_summary {
+  unsigned struct_size; /* set to sizeof(rp_collision_summary) before the call */
+  int checked;          /* 1: some pair of bodies was checked */
+  int bodies, pairs;    /* of the last scene (the last tool's) */
+  double margin_mm;
+  /* The least distance computed between two bodies along the program (mm; +inf where no pair
+   * came within reach of the margin), its CL line and pair ("" if none; valid while the session
+   * lives). */
+  double least_clearance_mm;
+  int least_clearance_line;
+  const char* least_clearance_pair;
+  long distance_queries;      /* distances computed */
+  double proven_clearance_mm; /* the least proven lower bound along the program */
+} rp_collision_summary;
+RP_API rp_status rp_collision_get(const rp_session* session, rp_collision_summary* summary);
 
 /* --- The cell's model, for a host that draws it (added in 0.5) ------------------------------- */
 

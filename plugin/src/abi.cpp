@@ -136,6 +136,58 @@ void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) 
   }
 }
 
+// The placement of rp_options (the CL frame in {B}) into PostOptions.
+void set_placement(const rp_options& o, PostOptions& post) {
+  if (o.has_placement) {
+    const double* p = o.placement;
+    // x, y, z within the CL reader's coordinate bound; A, B, C within a turn either way. A
+    // value beyond them is a typo, and gave the IK a pose it could not even start from.
+    static constexpr const char* kNames[6] = {"x", "y", "z", "A", "B", "C"};
+    for (int i = 0; i < 6; ++i) {
+      const double bound = i < 3 ? 1e7 : 360.0;
+      if (!std::isfinite(p[i]) || std::fabs(p[i]) > bound) {
+        throw AbiError{RP_ERR_BAD_INPUT,
+                       fmt::format("the placement's {} is {:.6g}: it must be a number of {} "
+                                   "from -{:g} to {:g} (--placement x,y,z,a,b,c)",
+                                   kNames[i], p[i], i < 3 ? "mm" : "degrees", bound, bound)};
+      }
+    }
+    post.T_B_part =
+        redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
+  }
+}
+
+// The collision options of rp_options into PostOptions (docs/collision.md).
+void set_collision_options(const rp_options& o, PostOptions& post) {
+  if (o.collision_check != 0 && o.collision_check != 1) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("options.collision_check is {}: use 1 or 0", o.collision_check)};
+  }
+  if (!std::isfinite(o.collision_margin_mm) || o.collision_margin_mm < 0.0 ||
+      o.collision_margin_mm > 1000.0) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("the collision margin must be a number of mm from 0 to 1000, got "
+                               "{}",
+                               o.collision_margin_mm)};
+  }
+  if (o.fixture_count < 0 || o.fixture_count > 1000 || (o.fixture_count > 0 && !o.fixture_paths))
+    throw AbiError{RP_ERR_BAD_INPUT, "options.fixture_count needs as many fixture_paths"};
+  post.collision.check = o.collision_check == 1;
+  post.collision.margin_mm = o.collision_margin_mm;
+  for (int i = 0; i < o.fixture_count; ++i) {
+    if (!o.fixture_paths[i] || !*o.fixture_paths[i])
+      throw AbiError{RP_ERR_BAD_INPUT, fmt::format("options.fixture_paths[{}] is empty", i)};
+    post.collision.setup.fixtures.emplace_back(o.fixture_paths[i]);
+  }
+  if (o.part_path)
+    post.collision.setup.part = o.part_path;
+  if (!post.collision.check && (o.fixture_count > 0 || o.part_path)) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   "fixtures or a part were given but the collision check is off "
+                   "(options.collision_check 0)"};
+  }
+}
+
 // The deflection options of rp_options into PostOptions (docs/deflection.md).
 void set_deflection_options(const rp_options& o, PostOptions& post) {
   if (o.deflection < RP_DEFLECTION_OFF || o.deflection > RP_DEFLECTION_COMPENSATE) {
@@ -185,6 +237,8 @@ RP_API void rp_options_init(rp_options* options) {
   options->fit_tolerance_mm = 0.01;
   options->fit_angle_tolerance_deg = 0.1;
   options->plan_threads = 1;
+  options->collision_margin_mm = 5.0;
+  options->collision_check = 1;
   for (double& v : options->lock_value)
     v = std::numeric_limits<double>::quiet_NaN();
 }
@@ -271,23 +325,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     }
     if (o.tools_path)
       post.tools = redpost::load_tool_table(o.tools_path);
-    if (o.has_placement) {
-      const double* p = o.placement;
-      // x, y, z within the CL reader's coordinate bound; A, B, C within a turn either way. A
-      // value beyond them is a typo, and gave the IK a pose it could not even start from.
-      static constexpr const char* kNames[6] = {"x", "y", "z", "A", "B", "C"};
-      for (int i = 0; i < 6; ++i) {
-        const double bound = i < 3 ? 1e7 : 360.0;
-        if (!std::isfinite(p[i]) || std::fabs(p[i]) > bound) {
-          throw AbiError{RP_ERR_BAD_INPUT,
-                         fmt::format("the placement's {} is {:.6g}: it must be a number of {} "
-                                     "from -{:g} to {:g} (--placement x,y,z,a,b,c)",
-                                     kNames[i], p[i], i < 3 ? "mm" : "degrees", bound, bound)};
-        }
-      }
-      post.T_B_part =
-          redpost::frame_from_xyzabc(p[0], p[1], p[2], redpost::KukaAbc{p[3], p[4], p[5]});
-    }
+    set_placement(o, post);
     s->T_B_part = post.T_B_part;
     if (o.msys != RP_MSYS_IGNORE && o.msys != RP_MSYS_APPLY) {
       throw AbiError{
@@ -297,6 +335,7 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session) {
     post.msys = o.msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
     set_plan_options(o, s->cell, post);
     set_deflection_options(o, post);
+    set_collision_options(o, post);
     s->conditioning_threshold = post.tracker.gains.conditioning_threshold;
     s->post = std::make_unique<redpost::PostSession>(s->cell, s->templates, post);
     s->source = source;
@@ -574,6 +613,28 @@ RP_API rp_status rp_deflection_summary_get(const rp_session* session,
     out.unloaded_moves = s.unloaded_moves;
     out.compensation_iterations = s.compensation_iterations;
     out.max_compensation_iterations = s.max_compensation_iterations;
+    copy_sized(summary, out);
+  });
+}
+
+RP_API rp_status rp_collision_get(const rp_session* session, rp_collision_summary* summary) {
+  if (!session)
+    return null_handle("the session");
+  return guard(session->error, "", [&] {
+    if (!summary)
+      throw AbiError{RP_ERR_NULL, "rp_collision_get: summary is NULL"};
+    check_struct_size(summary, "rp_collision_get", "rp_collision_summary");
+    const redpost::PostSummary& s = session->summary();
+    rp_collision_summary out{};
+    out.checked = s.collision_checked ? 1 : 0;
+    out.bodies = s.collision_bodies;
+    out.pairs = s.collision_pairs;
+    out.margin_mm = s.collision_margin_mm;
+    out.least_clearance_mm = s.least_clearance_mm;
+    out.least_clearance_line = s.least_clearance_line;
+    out.least_clearance_pair = s.least_clearance_pair.c_str();
+    out.distance_queries = s.clearance_queries;
+    out.proven_clearance_mm = s.proven_clearance_mm;
     copy_sized(summary, out);
   });
 }

@@ -73,6 +73,14 @@ void fill_motion(const redpost::MotionSample& m, double threshold, rp_motion& ou
   }
   out.tool_length_mm = m.tool_length_mm;
   out.tcp_shift_mm = m.tcp_shift_mm;
+  out.clearance_mm = m.clearance_mm;
+  out.clearance_proven_mm = m.clearance_proven_mm;
+  out.clearance_pair = m.clearance_pair ? m.clearance_pair->c_str() : "";
+  out.clearance_exact = m.clearance_exact ? 1 : 0;
+  for (int i = 0; i < 3; ++i) {
+    out.clearance_point_a[i] = m.clearance_point_a[i];
+    out.clearance_point_b[i] = m.clearance_point_b[i];
+  }
 }
 
 }  // namespace

@@ -44,8 +44,40 @@ enum OpenOption {
   o_pipeline,
   o_fit_tol,
   o_fit_ang_tol,
-  o_threads
+  o_threads,
+  o_fixture,
+  o_part,
+  o_collision_margin,
+  o_collision_check
 };
+
+// The collision options (docs/collision.md), as convert's --fixture (a list here), --part,
+// --collision-margin and --no-collision-check.
+int collision_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt,
+                     OpenStorage& storage) {
+  switch (index) {
+    case o_fixture: {
+      Tcl_Size n = 0;
+      Tcl_Obj** items = nullptr;
+      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+        return TCL_ERROR;
+      for (Tcl_Size k = 0; k < n; ++k)
+        storage.fixtures.push_back(Tcl_GetString(items[k]));
+      opt.fixture_paths = storage.fixtures.empty() ? nullptr : storage.fixtures.data();
+      opt.fixture_count = static_cast<int>(storage.fixtures.size());
+      return TCL_OK;
+    }
+    case o_part:
+      opt.part_path = *Tcl_GetString(v) ? Tcl_GetString(v) : nullptr;
+      return TCL_OK;
+    case o_collision_margin:
+      return get_double(interp, v, "-collision-margin", &opt.collision_margin_mm);
+    case o_collision_check:
+      return Tcl_GetBooleanFromObj(interp, v, &opt.collision_check);
+    default:
+      return TCL_OK;
+  }
+}
 
 // The options of ::redpost::open added with the deflection model and after it, as `redpost
 // convert`'s --predict-deflection, --compensate, --cutting, --deflection-tol, --msys, --report,
@@ -123,6 +155,28 @@ int lock_option(Tcl_Interp* interp, Tcl_Obj* word, rp_options& opt) {
   return rc;
 }
 
+// -placement {x y z a b c} (mm, deg; empty: none), as convert's --placement.
+int placement_option(Tcl_Interp* interp, Tcl_Obj* v, rp_options& opt) {
+  Tcl_Size n = 0;
+  Tcl_Obj** items = nullptr;
+  if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
+    return TCL_ERROR;
+  if (n == 0)
+    return TCL_OK;  // empty: no placement
+  if (n != 6) {
+    Tcl_SetObjResult(interp, Tcl_ObjPrintf("-placement takes six numbers {x y z a b c}, got \"%s\"",
+                                           Tcl_GetString(v)));
+    Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
+    return TCL_ERROR;
+  }
+  for (int k = 0; k < 6; ++k) {
+    if (get_double(interp, items[k], "-placement", &opt.placement[k]) != TCL_OK)
+      return TCL_ERROR;
+  }
+  opt.has_placement = 1;
+  return TCL_OK;
+}
+
 }  // namespace
 
 const char* const kOpenUsage =
@@ -132,21 +186,50 @@ const char* const kOpenUsage =
     "?-max-bytes N? ?-plan global|local? ?-preset smooth|stiff|fast? ?-keyframe-spacing MM? "
     "?-lock {E1=500 E2 ...}? ?-deflection off|predict|compensate? ?-cutting FILE? "
     "?-deflection-tol MM? ?-msys ignore|apply? ?-report FILE.html? ?-pipeline 0|1? "
-    "?-fit-tol MM? ?-fit-ang-tol DEG? ?-threads N?";
+    "?-fit-tol MM? ?-fit-ang-tol DEG? ?-threads N? ?-fixture {F.stl ...}? ?-part F.stl? "
+    "?-collision-margin MM? ?-collision-check 0|1?";
 
 // The options of ::redpost::open, in the order of kOpenOptions.
-const char* const kOpenOptions[] = {
-    "-cell",        "-krl",        "-output",    "-name",
-    "-joints-csv",  "-source",     "-base",      "-tool",
-    "-apo",         "-split",      "-placement", "-cl-line-every",
-    "-chordal-tol", "-tools",      "-clearance", "-rapid-vel",
-    "-max-bytes",   "-plan",       "-preset",    "-keyframe-spacing",
-    "-lock",        "-deflection", "-cutting",   "-deflection-tol",
-    "-msys",        "-report",     "-pipeline",  "-fit-tol",
-    "-fit-ang-tol", "-threads",    nullptr};
+const char* const kOpenOptions[] = {"-cell",
+                                    "-krl",
+                                    "-output",
+                                    "-name",
+                                    "-joints-csv",
+                                    "-source",
+                                    "-base",
+                                    "-tool",
+                                    "-apo",
+                                    "-split",
+                                    "-placement",
+                                    "-cl-line-every",
+                                    "-chordal-tol",
+                                    "-tools",
+                                    "-clearance",
+                                    "-rapid-vel",
+                                    "-max-bytes",
+                                    "-plan",
+                                    "-preset",
+                                    "-keyframe-spacing",
+                                    "-lock",
+                                    "-deflection",
+                                    "-cutting",
+                                    "-deflection-tol",
+                                    "-msys",
+                                    "-report",
+                                    "-pipeline",
+                                    "-fit-tol",
+                                    "-fit-ang-tol",
+                                    "-threads",
+                                    "-fixture",
+                                    "-part",
+                                    "-collision-margin",
+                                    "-collision-check",
+                                    nullptr};
 // One option of ::redpost::open into `opt` (the strings stay owned by the Tcl objects for the
 // duration of rp_open).
-int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
+int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt, OpenStorage& storage) {
+  if (index >= o_fixture)
+    return collision_option(interp, index, v, opt, storage);
   switch (index) {
     case o_cell:
       opt.cell_path = Tcl_GetString(v);
@@ -240,27 +323,8 @@ int open_option(Tcl_Interp* interp, int index, Tcl_Obj* v, rp_options& opt) {
       if (get_double(interp, v, "-chordal-tol", &opt.chordal_tolerance_mm) != TCL_OK)
         return TCL_ERROR;
       break;
-    case o_placement: {
-      Tcl_Size n = 0;
-      Tcl_Obj** items = nullptr;
-      if (Tcl_ListObjGetElements(interp, v, &n, &items) != TCL_OK)
-        return TCL_ERROR;
-      if (n == 0)
-        break;  // empty: no placement
-      if (n != 6) {
-        Tcl_SetObjResult(interp,
-                         Tcl_ObjPrintf("-placement takes six numbers {x y z a b c}, got \"%s\"",
-                                       Tcl_GetString(v)));
-        Tcl_SetErrorCode(interp, "REDPOST", "USAGE", static_cast<char*>(nullptr));
-        return TCL_ERROR;
-      }
-      for (int k = 0; k < 6; ++k) {
-        if (get_double(interp, items[k], "-placement", &opt.placement[k]) != TCL_OK)
-          return TCL_ERROR;
-      }
-      opt.has_placement = 1;
-      break;
-    }
+    case o_placement:
+      return placement_option(interp, v, opt);
     default:
       return deflection_option(interp, index, v, opt);
   }

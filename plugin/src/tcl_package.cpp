@@ -49,12 +49,13 @@ int cmd_open(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const objv[])
     return usage(interp, objv, kOpenUsage);
   rp_options opt;
   rp_options_init(&opt);
+  redpost::tcl::OpenStorage storage;
   // The strings stay owned by objv for the duration of rp_open.
   for (int i = 1; i < objc; i += 2) {
     int index = 0;
     if (Tcl_GetIndexFromObj(interp, objv[i], kOpenOptions, "option", 0, &index) != TCL_OK)
       return TCL_ERROR;
-    if (open_option(interp, index, objv[i + 1], opt) != TCL_OK)
+    if (open_option(interp, index, objv[i + 1], opt, storage) != TCL_OK)
       return TCL_ERROR;
   }
   if (!opt.cell_path || !opt.output_dir || !opt.program_name) {

@@ -116,9 +116,10 @@ run rep convert "$src/examples/cl/pocket_arcs.apt" --cell "$cell" -o "$work/rep"
 cmp -s "$work/ok/POCKET.src" "$work/rep/POCKET.src" && cmp -s "$work/ok/POCKET.dat" "$work/rep/POCKET.dat" &&
   pass || fail "the KRL differs with --report"
 # Joints, axis speed fractions, path speed, motion duration against the cycle, 1/kappa_F, external axes, the plan against the
-# written joints for each of E1, E2 and the spin, iterations, feed and three toolpath projections.
+# written joints for each of E1, E2 and the spin, iterations, feed, the clearance between the cell's
+# bodies (issue 46) and three toolpath projections.
 plots=$(grep -o '<svg class="plot"' "$work/rep/report.html" | wc -l)
-[ "$plots" -eq 14 ] && pass || fail "report: $plots plots, expected 14"
+[ "$plots" -eq 15 ] && pass || fail "report: $plots plots, expected 15"
 # The inlined libraries of the 3D view (<script data-library="...">, three.js) name their
 # authors' sites and XML namespaces in comments and strings: the page's own text must not.
 urls=$(python3 -c 'import re, sys; sys.stdout.write(re.sub(r"<script data-library=\"[^\"]*\">.*?</script>", "", open(sys.argv[1]).read(), flags=re.S))' "$work/rep/report.html" |

@@ -11,8 +11,9 @@ out=$3
 here=$(cd "$(dirname "$0")" && pwd)
 # Joints, axis speed fractions, path speed, motion duration against the interpolation cycle,
 # 1/kappa_F, external axes, the plan against the written joints (E1, E2, the spin), iterations,
-# feed and the XY, XZ, YZ toolpath projections.
-expected=14
+# feed, the closest approach of the bodies per motion (the cell's own, issue 46) and the XY, XZ,
+# YZ toolpath projections.
+expected=15
 rm -rf "$out" && mkdir -p "$out" || exit 1
 "$redpost" convert "$src/examples/cl/pocket_arcs.apt" \
   --cell "$src/definitions/cells/andres2011_kr15_track_table.xml" -o "$out" --name POCKET -q \
@@ -32,7 +33,7 @@ for page in "$html" "$out/surface_report.html"; do
   fi
 done
 # A page tall enough to show every plot: the screenshot is then worth looking at.
-"$here/render_check.sh" "$out/convert_report.html" "$expected" "$out/convert_report.png" 3400 ||
+"$here/render_check.sh" "$out/convert_report.html" "$expected" "$out/convert_report.png" 3800 ||
   exit $?
 # The 3D view (issue 21): the scene holds one link solid per joint of the cell file (counted
 # here from the file itself), the page's kinematics meets the TCP of every motion, and the arm

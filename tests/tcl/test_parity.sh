@@ -77,6 +77,13 @@ for f in pocket_arcs.apt long_pass.apt surface_5axis.cls; do
   case_ "ex_${f%%.*}_local" "$ex/$f" --plan local
 done
 case_ ex_pocket_circ "$ex/pocket_arcs.apt" --krl krc4_circ
+# Collisions (issue 46): a set-up the plan steers clear of, and one that is refused.
+setup=$src/examples/setup
+case_ ex_pocket_clamp "$ex/pocket_arcs.apt" --fixture "$setup/clamp_tower.stl" \
+  --part "$setup/pocket_block.stl"
+case_ ex_pocket_clamp_local "$ex/pocket_arcs.apt" --fixture "$setup/clamp_tower.stl" \
+  --fixture "$setup/vise_jaw.stl" --plan local --collision-margin 4
+case_ ex_pocket_jaw "$ex/pocket_arcs.apt" --fixture "$setup/jaw_too_close.stl"
 case_ ex_pocket_krc2 "$ex/pocket_arcs.apt" --krl krc2_lin
 case_ ex_pocket_clearance "$ex/pocket_arcs.apt" --clearance 80 --rapid-vel 0.5
 case_ ex_pocket_compensate "$ex/pocket_arcs.apt" --compensate --cutting "$work/cutting.xml"

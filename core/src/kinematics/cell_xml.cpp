@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "io/strict_xml.hpp"
+#include "kinematics/definition_reader.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
@@ -25,108 +26,11 @@ namespace {
 
 using tinyxml2::XMLElement;
 
-// Largest magnitudes accepted, to catch typos such as 1e308 before they poison the maths.
-constexpr double kMaxLengthMm = 1e7;    // 10 km
-constexpr double kMaxAngleDeg = 1e5;    // about 280 turns
+using Reader = detail::DefinitionReader;
+using detail::kMaxAngleDeg;
+using detail::kMaxLengthMm;
 constexpr double kMaxStiffness = 1e15;  // N*mm/rad
 constexpr double kMaxToolLengthMm = 2000.0;
-
-class Reader : public detail::StrictXml {
- public:
-  using StrictXml::fail;
-  using StrictXml::StrictXml;
-
-  // A number with an optional unit suffix. `units` maps suffix -> factor into internal units;
-  // the first entry is the default unit (empty suffix).
-  struct Unit {
-    std::string_view suffix;
-    double factor;
-  };
-  double number(const XMLElement* e, const char* attr, const char* text,
-                std::initializer_list<Unit> units, double max_abs) const {
-    std::string_view s(text);
-    auto trim = [](std::string_view v) {
-      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front())))
-        v.remove_prefix(1);
-      while (!v.empty() && std::isspace(static_cast<unsigned char>(v.back())))
-        v.remove_suffix(1);
-      return v;
-    };
-    s = trim(s);
-    const char* first = s.data();
-    const char* last = s.data() + s.size();
-    // from_chars takes no '+'; take one, but not a second sign after it ("+-450").
-    if (first != last && *first == '+' && first + 1 != last && first[1] != '-')
-      ++first;
-    double value = 0.0;
-    auto [ptr, ec] = std::from_chars(first, last, value);
-    const std::string where =
-        std::string("<") + e->Name() + "> attribute '" + attr + "' = \"" + text + "\"";
-    if (ec == std::errc::result_out_of_range)
-      fail(e, where + ": number out of range");
-    if (ec != std::errc() || s.empty())
-      fail(e, where + ": not a number");
-    // from_chars also reads "nan" and "inf"; neither has a place in a cell definition.
-    if (!std::isfinite(value))
-      fail(e, where + ": must be a finite number (NaN and inf are refused)");
-    const std::string_view suffix = trim(std::string_view(ptr, static_cast<size_t>(last - ptr)));
-    // A plain number takes no unit: "12a" is a typo, not an unknown unit.
-    if (!suffix.empty() && units.size() == 1 && units.begin()->suffix.empty()) {
-      fail(e, where + ": not a number");
-    }
-    double factor = 0.0;
-    for (const Unit& u : units) {
-      if (u.suffix == suffix || (suffix.empty() && &u == units.begin())) {
-        factor = u.factor;
-        break;
-      }
-    }
-    if (factor == 0.0) {
-      std::string list;
-      for (const Unit& u : units)
-        list += (list.empty() ? "" : ", ") + std::string(u.suffix);
-      fail(e, where + ": unknown unit '" + std::string(suffix) + "' (use " + list + ")");
-    }
-    const double out = value * factor;
-    if (std::fabs(out) > max_abs)
-      fail(e, where + ": magnitude too large to be meant");
-    return out;
-  }
-
-  double length_mm(const XMLElement* e, const char* attr, double fallback) const {
-    const char* t = e->Attribute(attr);
-    return t ? number(e, attr, t, {{"mm", 1.0}, {"m", 1000.0}}, kMaxLengthMm) : fallback;
-  }
-  double angle_rad(const XMLElement* e, const char* attr, double fallback) const {
-    const char* t = e->Attribute(attr);
-    return t ? number(e, attr, t, {{"deg", kPi / 180.0}, {"rad", 1.0}}, deg_to_rad(kMaxAngleDeg))
-             : fallback;
-  }
-  double plain(const XMLElement* e, const char* attr, double max_abs) const {
-    return number(e, attr, required(e, attr), {{"", 1.0}}, max_abs);
-  }
-
-  // x y z (mm) and a b c (deg, KUKA ZYX) of <base>, <fixed>, <tool>.
-  Isometry frame(const XMLElement* e) const {
-    only_attributes(e, {"name", "x", "y", "z", "a", "b", "c"});
-    const KukaAbc abc{rad_to_deg(angle_rad(e, "a", 0.0)), rad_to_deg(angle_rad(e, "b", 0.0)),
-                      rad_to_deg(angle_rad(e, "c", 0.0))};
-    return frame_from_xyzabc(length_mm(e, "x", 0.0), length_mm(e, "y", 0.0), length_mm(e, "z", 0.0),
-                             abc);
-  }
-
-  const XMLElement* child(const XMLElement* parent, const char* name, bool needed) const {
-    const XMLElement* c = parent->FirstChildElement(name);
-    if (!c && needed) {
-      fail(parent, std::string("<") + parent->Name() + "> needs a <" + name + "> element");
-    }
-    if (c && c->NextSiblingElement(name)) {
-      fail(c->NextSiblingElement(name),
-           std::string("<") + name + "> given twice in <" + parent->Name() + ">");
-    }
-    return c;
-  }
-};
 
 JointType parse_type(const Reader& r, const XMLElement* e) {
   const std::string t = r.required(e, "type");
@@ -377,6 +281,39 @@ bool krl_name(const std::string& s) {
   return true;
 }
 
+// The optional geometry of a <tool> (docs/tools.md, "Geometry"): every length > 0 and at most
+// the limits below; the flute and the holder fit within the tool's length together.
+void read_tool_geometry(const Reader& r, const XMLElement* t, ToolEntry& entry) {
+  const auto read = [&](const char* attr, double max_mm, double& out) {
+    if (!t->Attribute(attr))
+      return;
+    out = r.length_mm(t, attr, 0.0);
+    if (!(out > 0.0) || out > max_mm) {
+      r.fail(t, "tool " + std::to_string(entry.number) + ": " + attr + " must be > 0 and at most " +
+                    fmt_num(max_mm) + " mm");
+    }
+  };
+  read("diameter", 500.0, entry.diameter_mm);
+  read("flute-length", kMaxToolLengthMm, entry.flute_length_mm);
+  read("shank-diameter", 500.0, entry.shank_diameter_mm);
+  read("holder-diameter", 1000.0, entry.holder_diameter_mm);
+  read("holder-length", kMaxToolLengthMm, entry.holder_length_mm);
+  const bool holder = t->Attribute("holder-diameter") || t->Attribute("holder-length");
+  if (holder && !(t->Attribute("holder-diameter") && t->Attribute("holder-length")))
+    r.fail(t, "tool " + std::to_string(entry.number) +
+                  ": a holder needs both holder-diameter and holder-length");
+  const double flute = std::isnan(entry.flute_length_mm) ? 0.0 : entry.flute_length_mm;
+  const double held = std::isnan(entry.holder_length_mm) ? 0.0 : entry.holder_length_mm;
+  if (flute + held > entry.length_mm + 1e-9) {
+    r.fail(t, "tool " + std::to_string(entry.number) + ": flute-length " + fmt_num(flute) +
+                  " mm and holder-length " + fmt_num(held) + " mm do not fit in its length " +
+                  fmt_num(entry.length_mm) + " mm (from the gauge line to the tip)");
+  }
+  if ((t->Attribute("flute-length") || t->Attribute("shank-diameter")) && !t->Attribute("diameter"))
+    r.fail(t, "tool " + std::to_string(entry.number) +
+                  ": flute-length and shank-diameter need the cutter's diameter");
+}
+
 // <tool-table>: in a cell (with its reference-length) or as a file's root (entries only).
 ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
   r.only_attributes(e, in_cell ? std::initializer_list<std::string_view>{"reference-length"}
@@ -392,7 +329,8 @@ ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
   for (const XMLElement* t = e->FirstChildElement(); t; t = t->NextSiblingElement()) {
     if (std::string_view(t->Name()) != "tool")
       r.fail(t, std::string("unknown element <") + t->Name() + "> in <tool-table> (known: tool)");
-    r.only_attributes(t, {"number", "data", "load-data", "length", "name"});
+    r.only_attributes(t, {"number", "data", "load-data", "length", "name", "diameter",
+                          "flute-length", "shank-diameter", "holder-diameter", "holder-length"});
     ToolEntry entry;
     entry.line = t->GetLineNum();
     entry.number = whole(r, t, "number", 0, 1000000);
@@ -406,6 +344,7 @@ ToolTable read_tool_table(const Reader& r, const XMLElement* e, bool in_cell) {
              "tool " + std::to_string(entry.number) + ": length must be > 0 and at most 2000 mm");
     if (const char* n = t->Attribute("name"))
       entry.name = n;
+    read_tool_geometry(r, t, entry);
     for (const ToolEntry& other : table.tools) {
       if (other.number == entry.number) {
         r.fail(t, "tool " + std::to_string(entry.number) + " is given twice (first at line " +
@@ -533,6 +472,7 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
   const XMLElement* cond = nullptr;
   const XMLElement* controller = nullptr;
   const XMLElement* tool_table = nullptr;
+  const XMLElement* collision = nullptr;
   std::set<std::string> names;
   std::map<std::string, std::string> axis_owner;  // axis name -> joint
 
@@ -587,10 +527,15 @@ Cell parse_cell(const std::string& xml_text, const std::string& source_name) {
       if (tool_table)
         r.fail(e, "<tool-table> given twice");
       tool_table = e;
+    } else if (n == "collision") {
+      // The cell's bodies: read by collision/cell_bodies.hpp, which knows their form.
+      if (collision)
+        r.fail(e, "<collision> given twice");
+      collision = e;
     } else {
       r.fail(e, "unknown element <" + n +
                     "> in <cell> (known: base, joint, fixed, tool, conditioning, controller, "
-                    "tool-table)");
+                    "tool-table, collision)");
     }
   }
   if (cell.joint_count == 0)

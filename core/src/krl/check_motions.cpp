@@ -14,7 +14,10 @@ namespace redpost {
 namespace krl {
 
 MotionChecks::MotionChecks(const KrlCheckOptions& options, std::string main_file)
-    : options_(options), main_file_(std::move(main_file)), rate_(options.motion_rate) {}
+    : options_(options), main_file_(std::move(main_file)), rate_(options.motion_rate) {
+  if (options.clearance)
+    clearance_ = std::make_unique<KrlClearanceCheck>(*options.clearance);
+}
 
 void MotionChecks::add(const KrlMotionRecord& m) {
   first_motion(m);
@@ -23,11 +26,19 @@ void MotionChecks::add(const KrlMotionRecord& m) {
     rate_.add(m);
   if (options_.cell)
     limits(m);
+  if (clearance_)
+    clearance_->add(m);
 }
 
 std::vector<KrlFinding> MotionChecks::finish() {
   if (options_.motion_rate.interpolation_cycle_s > 0.0)
     motion_rate(rate_.finish());
+  if (clearance_) {
+    for (KrlClearanceFinding& f : clearance_->finish())
+      out_.push_back({std::move(f.file), f.line, std::move(f.message), f.warning});
+    if (options_.clearance_totals)
+      options_.clearance_totals->emplace_back(main_file_, clearance_->totals());
+  }
   return std::move(out_);
 }
 

@@ -4,6 +4,7 @@
 // motion rate (docs/krl-diff.md).
 #pragma once
 
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -27,6 +28,7 @@ class MotionChecks {
 
   const KrlCheckOptions& options_;
   std::string main_file_;
+  std::unique_ptr<KrlClearanceCheck> clearance_;
   KrlMotionRateCounter rate_;
   bool motion_seen_ = false;
   bool ptp_seen_ = false;

@@ -183,6 +183,14 @@ bool PostSession::Impl::try_circ(const detail::ArcChords& arc, const Eigen::Vect
   t.tangent = ends.entry_tangent;
   t.exit_tangent = ends.exit_tangent;
   t.curvature_per_mm = 1.0 / arc.r0;
+  // The circle through the start, the auxiliary point and the end, in {B}, for the collision
+  // check along it.
+  Circle circle_B;
+  if (circle_through(T_written.translation(), o.T_B_base * aux.T_base_tcp.translation(),
+                     T1.translation(), circle_B))
+    check_clearance(KrlMotionKind::lin, q1, cl_line, &circle_B);
+  else
+    check_clearance(KrlMotionKind::lin, q1, cl_line);
   writer.velocity(t.command_mm_s / 1000.0);
   writer.circ(aux, end);
   after_write(end, q1, t);

@@ -148,6 +148,7 @@ void PostSession::Impl::record(const PoseResult& r, int cl_line, bool new_pose) 
 void PostSession::Impl::emit(KrlMotionKind kind, const JointVector& q, int cl_line) {
   const KrlMotion m = motion_at(kind, q, cl_line);
   const TimedMotion t = timed_ptp(q, cl_line);
+  check_clearance(kind, q, cl_line);
   writer.motion(m);
   after_write(m, q, t);
   remember_written(q, o.T_B_base * m.T_base_tcp);
@@ -204,6 +205,17 @@ void PostSession::Impl::after_write(const KrlMotion& m, const JointVector& q,
   p.tool_length_mm =
       std::isfinite(active_length_mm) ? active_length_mm : cell.tools.reference_length_mm;
   p.tcp_shift_mm = active_cell == &cell ? 0.0 : active_length_mm - cell.tools.reference_length_mm;
+  if (motion_clearance) {
+    const MotionClearance& c = *motion_clearance;
+    p.clearance_mm = c.nearest_mm;
+    p.clearance_proven_mm = c.least_mm;
+    p.clearance_pair = c.nearest_pair;
+    p.clearance_exact = c.nearest_where.exact;
+    const Isometry T_part_B = o.T_B_part.inverse();
+    p.clearance_a = T_part_B * c.nearest_where.point_a_B;
+    p.clearance_b = T_part_B * c.nearest_where.point_b_B;
+    motion_clearance.reset();
+  }
   pending.push_back(std::move(p));
   TimedMotion timed = t;
   timed.index = summary.motions;
@@ -350,6 +362,7 @@ void PostSession::Impl::first_or_approach(const Eigen::Vector3d& p_mm, const Eig
   }
   if (r.status != PoseStatus::converged)
     fail(r, cl_line, what);
+  r = clear_first_pose(target, r);
   tracker.reset(r.q);
   started = true;
   approach_pending = false;

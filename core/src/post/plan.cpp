@@ -448,6 +448,7 @@ bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
     fall_back(w.kf, r.dead_keyframe, end, o.source_name, deferred, batch);
     return true;
   }
+  avoid_in_plan(w.kf, r, pl, fresh ? nullptr : &start_q, batch);
 
   // Commit 85 % of the window (all of it at the end or before a tool change), and
   // at least up to the end of the first motion.

@@ -204,9 +204,17 @@ PostSession::Impl::Impl(const Cell& c, const KrlTemplateSet& templates, const Po
     // With the point reduction, the first CL line each motion covers (cl_line is the last).
     if (reducer.enabled())
       fmt::format_to(std::back_inserter(line), ",cl_first_line");
+    // With the collision check, each motion's least clearance (docs/collision.md).
+    if (o.collision.check)
+      fmt::format_to(std::back_inserter(line), ",clearance_mm");
     line.push_back('\n');
     csv->write(line);
   }
+  // A SPLINE block's segments stray from their chords by at most the writer's tolerance at the
+  // TCP (krl/spline_model.hpp); the arm's bodies are given twenty times that (docs/collision.md).
+  spline_allowance_mm =
+      templates.spline ? 20.0 * program_for(c, o, templates).spline_tolerance_mm : 0.0;
+  start_collision();
   start_timing(templates);
 }
 

@@ -18,11 +18,16 @@
 #include "cl/arc_chords.hpp"
 #include "post/dispatch_stage.hpp"
 #include "post/pending_file.hpp"
+#include "redpost/collision/cell_bodies.hpp"
+#include "redpost/collision/clearance.hpp"
+#include "redpost/collision/tool_bodies.hpp"
 #include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/circle.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
 #include "redpost/machining/deflection.hpp"
 #include "redpost/post/session.hpp"
+#include "redpost/redundancy/clearance_goal.hpp"
 #include "redpost/timing/path_timer.hpp"
 
 namespace redpost {
@@ -151,6 +156,11 @@ struct PostSession::Impl {
     MotionDeflection deflection;
     double tool_length_mm = std::numeric_limits<double>::quiet_NaN();
     double tcp_shift_mm = 0.0;
+    double clearance_mm = std::numeric_limits<double>::quiet_NaN();
+    double clearance_proven_mm = std::numeric_limits<double>::quiet_NaN();
+    int clearance_pair = -1;
+    bool clearance_exact = false;
+    Eigen::Vector3d clearance_a = Eigen::Vector3d::Zero(), clearance_b = Eigen::Vector3d::Zero();
   };
   std::unique_ptr<PathTimer> timer;
   std::deque<PendingMotion> pending;
@@ -271,6 +281,52 @@ struct PostSession::Impl {
   void circular_move(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double radius_mm,
                      const Eigen::Vector3d& p_mm, const Eigen::Vector3d& tool_axis, int cl_line,
                      double chordal_tolerance_mm);
+
+  // --- collision.cpp -------------------------------------------------------------------------
+  // The cell's bodies, the set-up's, the active tool's; the scene of them all on the active
+  // tool's cell and the monitor that follows the written motions; the clearance of the motion
+  // being written (for its joints-log row and observer sample).
+  CellBodies cell_bodies;
+  std::vector<Body> setup;
+  std::vector<Body> tool_bodies_in_use;
+  std::unique_ptr<CollisionScene> scene;
+  std::unique_ptr<ClearanceMonitor> clearance;
+  // The clearance as the tracker's extra goal (redundancy/clearance_goal.hpp): the tracker holds
+  // the proxy, which forwards to the goal of the scene in force.
+  struct GoalProxy : ExtraGoal {
+    const ClearanceGoal* goal = nullptr;
+    void add(const JointVector& q, JointVector& h) const override {
+      if (goal)
+        goal->add(q, h);
+    }
+  };
+  GoalProxy goal_proxy;
+  std::unique_ptr<ClearanceGoal> clearance_goal;
+  std::optional<MotionClearance> motion_clearance;
+  std::vector<std::string> pair_names;  // the scene's, for the observer (by pair index)
+  int tool_notes = 0;
+  double spline_allowance_mm = 0.0;
+  // The last CP motion's TCP direction and length (0: none, or an exact stop since), for the
+  // blend at the next one's start.
+  Eigen::Vector3d last_cp_direction = Eigen::Vector3d::UnitX();
+  double last_cp_length = 0.0;
+  void start_collision();
+  void rebuild_scene();
+  void collision_tool(const ToolEntry* entry, double length_mm, int number, int cl_line);
+  void check_clearance(KrlMotionKind kind, const JointVector& q1, int cl_line,
+                       const Circle* arc_B = nullptr);
+  [[noreturn]] void collision_fail(const MotionClearance& c, KrlMotionKind kind, int cl_line);
+  // The planning side's (plan.cpp): the plan's keyframes checked, joined joint-linearly, with the
+  // margin and plan_extra_mm; a window whose plan comes too close is planned again without the
+  // postures of the keyframes around (PlanNodeFilter).
+  std::unique_ptr<ClearanceMonitor> plan_monitor;
+  const CollisionScene* plan_monitor_scene = nullptr;
+  std::vector<int> unclear_keyframes(const std::vector<JointVector>& q, double need);
+  void avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanWindowResult& r,
+                     const PathPlanner& pl, const JointVector* start, PlanBatch& batch);
+  // The first pose (or an approach's) clear of every body: the tracker's solution, else the
+  // nearest to home of the arm's closed-form postures at its external axes and spins.
+  PoseResult clear_first_pose(const TcpTarget& target, const PoseResult& solved);
 
   // --- deflection.cpp ------------------------------------------------------------------------
   bool deflection_on() const { return o.deflection != DeflectionMode::off; }

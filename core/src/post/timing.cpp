@@ -320,6 +320,7 @@ void PostSession::Impl::write_lin(const JointVector& q, int cl_line,
   } else {
     t = timed_cp(q, T1, q, T1, 0.0, cl_line, nullptr);
   }
+  check_clearance(KrlMotionKind::lin, q, cl_line);
   writer.velocity(t.command_mm_s / 1000.0);
   writer.motion(m);
   t.entry_smooth = writer.joined_smoothly();
@@ -479,6 +480,10 @@ void PostSession::Impl::write_joints_row(const PendingMotion& p, double end_s) {
   }
   if (reducer.enabled())
     fmt::format_to(std::back_inserter(line), ",{}", p.first_line);
+  // The least clearance along the motion (docs/collision.md); inf where no pair came within the
+  // bound's reach, nan where none was checked.
+  if (o.collision.check)
+    fmt::format_to(std::back_inserter(line), ",{:.3f}", p.clearance_mm);
   line.push_back('\n');
   csv->write(line);
 }
@@ -549,6 +554,14 @@ void PostSession::Impl::observe(const PendingMotion& p, const TimedMotion& t,
   s.deflection = p.has_deflection ? &p.deflection : nullptr;
   s.tool_length_mm = p.tool_length_mm;
   s.tcp_shift_mm = p.tcp_shift_mm;
+  s.clearance_mm = p.clearance_mm;
+  s.clearance_proven_mm = p.clearance_proven_mm;
+  s.clearance_pair = p.clearance_pair >= 0 && p.clearance_pair < static_cast<int>(pair_names.size())
+                         ? &pair_names[static_cast<std::size_t>(p.clearance_pair)]
+                         : nullptr;
+  s.clearance_exact = p.clearance_exact;
+  s.clearance_point_a = p.clearance_a;
+  s.clearance_point_b = p.clearance_b;
   o.on_motion(s);
 }
 

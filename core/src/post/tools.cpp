@@ -97,6 +97,7 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
   use_tool_cell(number, length_mm, cl_line);
   tool_number = number;
   active_length_mm = new_length;
+  collision_tool(entry, new_length, number, cl_line);
   // After the change (a routine may take the robot to the changer) the next move is an approach.
   approach_pending = started;
 }

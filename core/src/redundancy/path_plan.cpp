@@ -271,7 +271,8 @@ std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf, JointVe
 }
 
 PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
-                                   const JointVector* start, int beam) const {
+                                   const JointVector* start, int beam,
+                                   const PlanNodeFilter* filter) const {
   PlanWindowResult out;
   if (keyframes.empty())
     return out;
@@ -322,8 +323,11 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
         static_cast<int>(keyframes.size()), first_keys, dp,
         [&](int layer, const LatticeKey& key, JointVector& q, double& cost) {
           int limit_joint = -1;
-          const bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q,
-                                   cost, &limit_joint);
+          bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q, cost,
+                             &limit_joint);
+          const auto lu = static_cast<std::size_t>(layer);
+          if (ok && filter && lu < filter->layers.size() && filter->layers[lu] && !filter->clear(q))
+            ok = false;
           if (limit_joint >= 0)
             limit_hits[static_cast<std::size_t>(limit_joint)].fetch_add(1,
                                                                         std::memory_order_relaxed);
@@ -384,7 +388,7 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
   out.q.reserve(r.path.size());
   for (const LatticeNode& n : r.path)
     out.q.push_back(n.q);
-  smooth(keyframes, r, out.q);
+  smooth(keyframes, r, out.q, filter);
   return out;
 }
 
@@ -394,7 +398,7 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
 // free joints, and a keyframe whose smoothed posture is not valid keeps the lattice's. The
 // first keyframe (the committed start of a window) stays as it is.
 void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const LatticeDpResult& r,
-                         std::vector<JointVector>& q) const {
+                         std::vector<JointVector>& q, const PlanNodeFilter* filter) const {
   const int n = static_cast<int>(q.size());
   const int half = settings_.smoothing;
   if (half <= 0 || n < 3)
@@ -427,6 +431,9 @@ void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const Latti
     bool near = true;
     for (int i : ik_->arm_joints())
       near = near && std::fabs(sol.q[mu][i] - q[ku][i]) < deg_to_rad(settings_.max_arm_step_deg);
+    // Where the filter checks postures, the smoothed one must pass too.
+    if (near && filter && ku < filter->layers.size() && filter->layers[ku])
+      near = filter->clear(sol.q[mu]);
     if (near)
       q[ku] = sol.q[mu];
   }

@@ -75,6 +75,8 @@ void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full
     if (full_goals) {
       limit_avoidance(cell, q, g.limits, g.limit_zone, s.h_lim);
       s.h += s.h_lim;
+      if (options_.extra_goal)
+        options_.extra_goal->add(q, s.h);
     }
     cap_motion(cell, follow_max_motion_, s.h);
     return;
@@ -109,6 +111,8 @@ void Tracker::null_space_motion(const JointVector& q, SwitchState& sw, bool full
 
   limit_avoidance(cell, q, g.limits, g.limit_zone, s.h_lim);
   s.h += s.h_lim;
+  if (options_.extra_goal)
+    options_.extra_goal->add(q, s.h);
   cap_motion(cell, g.max_motion_per_pose, s.h);
 }
 

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "convert_report_clearance.hpp"
 #include "convert_report_deflection.hpp"
 #include "convert_report_scene.hpp"
 #include "redpost/io/durable_write.hpp"
@@ -172,6 +173,8 @@ struct ConvertReport::Impl {
   long motions = 0;
   // The deflection under the cutting force (docs/deflection.md): its own section.
   DeflectionTrace deflection{kBuckets};
+  // The clearance between bodies (docs/collision.md): its own section.
+  ClearanceTrace clearance{kBuckets};
   // The 3D view (convert_report_scene.hpp); made once the session's cell is known.
   std::optional<SceneTrace> scene;
 
@@ -218,6 +221,7 @@ struct ConvertReport::Impl {
             std::max(plan_deviation[i], scale * std::fabs(m.joints[i] - m.planned_joints[i]));
     }
     deflection.on_motion(m);
+    clearance.on_motion(m);
     scene->on_motion(m);
   }
 };
@@ -663,6 +667,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     add_plan_section(r, d);
     add_solver_and_feed_section(r, d);
     d.deflection.add_section(r, session, motion_axis(d.motions));
+    d.clearance.add_section(r, session, motion_axis(d.motions));
     add_toolpath_section(r, d);
     d.scene->add_section(r, session);
     count_warnings(r, run_total, run_shown);

@@ -566,7 +566,7 @@ TEST_CASE("cell_xml: unknown elements are refused") {
   SECTION("in <cell>") {
     expect_bad(with_extra(R"(<joints/>)"), "<joints/>",
                "unknown element <joints> in <cell> (known: base, joint, fixed, tool, conditioning, "
-               "controller, tool-table)");
+               "controller, tool-table, collision)");
   }
   SECTION("in <joint>") {
     const std::string e = R"(<limit min="-1" max="1"/>)";

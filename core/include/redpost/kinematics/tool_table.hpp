@@ -28,8 +28,16 @@ struct ToolEntry {
   // default (ControllerSettings::load_data), else tool_data, as KUKA's BAS (#TOOL, n) pairs them.
   int load_data = 0;
   double length_mm = 0.0;  // along the tool axis, from the spindle's gauge line to the tip
-  std::string name;        // for comments and messages (may be empty)
-  int line = 0;            // where it is defined
+  // The tool's bodies for the collision checks (docs/tools.md, "Geometry"), stacked along the
+  // tool axis from the tip: the cutter (its flute, which alone may touch the part), the shank,
+  // the holder up to the gauge line. NaN: not given (the CL file's diameter, or no body).
+  double diameter_mm = std::numeric_limits<double>::quiet_NaN();
+  double flute_length_mm = std::numeric_limits<double>::quiet_NaN();
+  double shank_diameter_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: the diameter's
+  double holder_diameter_mm = std::numeric_limits<double>::quiet_NaN();
+  double holder_length_mm = std::numeric_limits<double>::quiet_NaN();  // from the gauge line
+  std::string name;  // for comments and messages (may be empty)
+  int line = 0;      // where it is defined
 };
 
 struct ToolTable {

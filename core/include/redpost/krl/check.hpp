@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "redpost/kinematics/cell.hpp"
+#include "redpost/krl/clearance_check.hpp"
 #include "redpost/krl/motion_rate.hpp"
 #include "redpost/krl/reader.hpp"
 
@@ -48,6 +49,11 @@ struct KrlCheckOptions {
   // The motion rate (0: not checked); with `motion_rates`, each program's totals, by main file.
   KrlMotionRateOptions motion_rate;
   std::vector<std::pair<std::string, KrlMotionRate>>* motion_rates = nullptr;
+  // The clearance of every motion recomputed from the text (krl/clearance_check.hpp): each
+  // collision is a finding; with `clearance_totals`, each program's least clearance by main
+  // file. nullptr: not checked.
+  const KrlClearanceOptions* clearance = nullptr;
+  std::vector<std::pair<std::string, KrlClearanceTotals>>* clearance_totals = nullptr;
 };
 
 // Checks a .src (and the files it calls, and the .dat files beside them) or every .src/.dat of

@@ -19,6 +19,7 @@
 #include "redpost/cl/event.hpp"
 #include "redpost/cl/expander.hpp"
 #include "redpost/cl/point_reduction.hpp"
+#include "redpost/collision/setup.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/tool_table.hpp"
@@ -84,6 +85,16 @@ struct MotionSample {
   // (cell_for_tool; 0 for the chain's own TCP).
   double tool_length_mm = std::numeric_limits<double>::quiet_NaN();
   double tcp_shift_mm = 0.0;
+  // The clearance of the motion (docs/collision.md): the least distance computed between two
+  // bodies that may not touch on it (at its end and where the check looked closer; +inf where
+  // no pair came within reach of the margin, NaN where nothing is checked), its pair and nearest
+  // points in the CL (part) frame; and the proven lower bound of every distance along it.
+  double clearance_mm = std::numeric_limits<double>::quiet_NaN();
+  double clearance_proven_mm = std::numeric_limits<double>::quiet_NaN();
+  const std::string* clearance_pair = nullptr;
+  bool clearance_exact = false;
+  Eigen::Vector3d clearance_point_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d clearance_point_b = Eigen::Vector3d::Zero();
 };
 
 // Called for every written motion, after it was written. Empty: no samples are made.
@@ -94,6 +105,17 @@ enum class RedundancyPlan { local, global };
 // What the session does with the arm's compliance (docs/deflection.md): nothing, predict the
 // tool's deflection at every cutting move, or also move each target against it (a fixed point).
 enum class DeflectionMode { off, predict, compensate };
+
+// Collisions (docs/collision.md): the cell's own bodies (its <collision>) are always checked, the
+// tool's from the tool table or the CL file, and the set-up's from STL files in the CL frame.
+struct CollisionOptions {
+  bool check = true;  // false: no body is checked (for tests of what the check changes)
+  SetupFiles setup;
+  double margin_mm = 5.0;  // the least distance kept between bodies that may not touch
+  // The whole-path plan keeps this much more (mm): the tracker follows the plan closely, not
+  // exactly, and the plan's keyframes are joined by the joints' straight lines.
+  double plan_extra_mm = 10.0;
+};
 
 struct PostOptions {
   KrlProgramInfo program;
@@ -155,6 +177,7 @@ struct PostOptions {
   std::string source_name = "<cl>";
   // One row per written motion: pose, CL line, joints in DH units, controller axes. Empty: none.
   std::string joints_csv_path;
+  CollisionOptions collision;
   // Sees every written motion (see MotionSample), in order; under plan_threads >= 2 on the
   // session's tracking thread (never two calls at once). Empty: none, at no cost.
   MotionObserver on_motion;
@@ -239,6 +262,18 @@ struct PostSummary {
   long plan_windows = 0;           // windows planned
   long plan_fallback_windows = 0;  // of them, tracked pose by pose (no sequence on the lattice)
   long plan_ik_evaluations = 0;    // lattice nodes solved (closed-form IK of one posture each)
+
+  // Collisions (PostOptions::collision; docs/collision.md): the bodies and the pairs checked, and
+  // the least clearance along the program (a lower bound, proven between the poses), its CL
+  // line and pair.
+  bool collision_checked = false;  // some pair of bodies was checked
+  int collision_bodies = 0, collision_pairs = 0;
+  double collision_margin_mm = 0.0;
+  double least_clearance_mm = std::numeric_limits<double>::infinity();  // computed, closest
+  int least_clearance_line = 0;
+  std::string least_clearance_pair;
+  double proven_clearance_mm = std::numeric_limits<double>::infinity();  // the lower bound
+  long clearance_queries = 0;  // distances computed (for the benchmark)
 
   // The deflection (PostOptions::deflection), per CL operation in order.
   DeflectionMode deflection_mode = DeflectionMode::off;

@@ -18,6 +18,15 @@
 
 namespace redpost {
 
+// A secondary goal beyond the four above, in the same form (eq. 13): a desired joint motion
+// added to h at each pose before the cap, in the weighted metric. The clearance to the cell's
+// bodies is one (redundancy/clearance_goal.hpp).
+class ExtraGoal {
+ public:
+  virtual ~ExtraGoal() = default;
+  virtual void add(const JointVector& q, JointVector& h) const = 0;
+};
+
 struct NullSpaceGains {
   double centring = 0.01;               // H_jnt (per pose), paper: diag(0.01)
   double conditioning = 0.01;           // H_cond, paper: diag(0.01)

@@ -87,6 +87,15 @@ struct PathPlanSettings {
 
 PathPlanSettings plan_preset(PlanPreset preset);
 
+// Postures the plan may not use (docs/collision.md, "The plan"): on the keyframes marked, each
+// lattice node's posture must pass `clear`, which is called from the pool's threads at once and
+// must only read shared state. The session marks the keyframes where a plan came too close to
+// a body and plans again.
+struct PlanNodeFilter {
+  std::vector<char> layers;  // per keyframe: 1 where nodes are checked
+  std::function<bool(const JointVector& q)> clear;
+};
+
 struct PlanWindowResult {
   bool feasible = false;
   double cost = 0.0;           // of the sequence found (before smoothing)
@@ -108,7 +117,7 @@ class PathPlanner {
   // joints' ranges and every posture.
   // beam > 0 overrides settings().beam (a wider search where the first found no sequence).
   PlanWindowResult plan(const std::vector<PlanKeyframe>& keyframes, const JointVector* start,
-                        int beam = 0) const;
+                        int beam = 0, const PlanNodeFilter* filter = nullptr) const;
 
   const std::vector<int>& free_joints() const { return free_; }
   const PathPlanSettings& settings() const { return settings_; }
@@ -125,7 +134,7 @@ class PathPlanner {
   std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin,
                                       int& stride) const;
   void smooth(const std::vector<PlanKeyframe>& keyframes, const LatticeDpResult& r,
-              std::vector<JointVector>& q) const;
+              std::vector<JointVector>& q, const PlanNodeFilter* filter) const;
 
   const Cell* cell_;
   const ArmIk* ik_;

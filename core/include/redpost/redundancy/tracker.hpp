@@ -41,6 +41,8 @@ struct TrackerOptions {
   std::bitset<kMaxJoints> locked;
   // Reference posture for centring; empty: the cell's home.
   JointVector q_ref;
+  // A further goal (not owned; null: none), added at every pose whether following a plan or not.
+  const ExtraGoal* extra_goal = nullptr;
 };
 
 enum class PoseStatus : std::uint8_t {

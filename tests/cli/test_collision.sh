@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# cli.collision: the collision check as a user meets it (issue 46, docs/collision.md), with the
+# project's own set-up (examples/setup/, made by make_setup.py):
+# - a set-up where nothing comes near: the same program as without it;
+# - a clamp tower the wrist of a plan blind to it runs through (redpost check finds it, at
+#   file:line, in the program converted without it), which the plan that knows it keeps clear of,
+#   under --plan global and --plan local, proven by redpost check from the KRL text alone;
+# - a jaw the spindle must pass through whatever the redundancy does: refused at its CL line with
+#   the two bodies, exit 2, nothing written;
+# - malformed and truncated STL files refused with file:line or the byte offset, nothing written.
+#
+# Usage: test_collision.sh REDPOST SOURCE_DIR
+. "$(dirname "$0")/harness.sh" cli.collision "$@"
+
+cell=$SRC/definitions/cells/andres2011_kr15_track_table.xml
+cl=$SRC/examples/cl/pocket_arcs.apt
+setup=$SRC/examples/setup
+part=(--part "$setup/pocket_block.stl")
+
+convert_to() {  # convert_to DIR ARGS...: the pocket into DIR
+  local dir=$1
+  shift
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  run convert "$cl" --cell "$cell" -o "$dir" --name POCKET "$@"
+}
+
+begin "without a set-up: the cell's own bodies are checked, the closest pair said"
+convert_to "$TMP/blind"
+expect_rc 0
+expect_out "collisions: 13 bodies"
+expect_out "closest"
+run check "$TMP/blind/POCKET.src" --cell "$cell" --clearance
+expect_rc 0
+expect_out "motions checked; closest"
+run check "$TMP/blind/POCKET.src" --cell "$cell"
+expect_rc 0
+[[ ! -s "$TMP/out" ]] || fail "check --cell alone printed: $OUT"
+passed
+
+begin "a set-up that comes near nothing: the same program, byte for byte"
+convert_to "$TMP/vise" --fixture "$setup/vise_jaw.stl" "${part[@]}"
+expect_rc 0
+cmp -s "$TMP/blind/POCKET.src" "$TMP/vise/POCKET.src" || fail "the vise jaw changed the program"
+run check "$TMP/vise/POCKET.src" --cell "$cell" --fixture "$setup/vise_jaw.stl" "${part[@]}"
+expect_rc 0
+expect_out "motions checked; closest"
+passed
+
+begin "check finds the clamp tower the blind program runs through, at file:line"
+run check "$TMP/blind/POCKET.src" --cell "$cell" --fixture "$setup/clamp_tower.stl" "${part[@]}"
+expect_rc 1
+grep -qE "^$TMP/blind/POCKET.src:[0-9]+: collision: arm_link_5 vs fixture clamp_tower.stl" \
+  "$TMP/out" || fail "no collision of the wrist with the clamp tower at file:line"
+line=$(grep -m1 -oE "POCKET.src:[0-9]+: collision" "$TMP/out" | grep -oE "[0-9]+")
+sed -n "${line}p" "$TMP/blind/POCKET.src" | grep -qE "^(LIN|PTP|CIRC)" ||
+  fail "line $line of the program is no motion: $(sed -n "${line}p" "$TMP/blind/POCKET.src")"
+passed
+
+for plan in global local; do
+  begin "--plan $plan steers clear of the clamp tower, proven from the KRL text"
+  convert_to "$TMP/tower_$plan" --fixture "$setup/clamp_tower.stl" "${part[@]}" --plan "$plan"
+  expect_rc 0
+  expect_out "clamp_tower.stl"
+  run check "$TMP/tower_$plan/POCKET.src" --cell "$cell" --fixture "$setup/clamp_tower.stl" \
+    "${part[@]}"
+  expect_rc 0
+  grep -q "collision:" "$TMP/out" && fail "check finds a collision in the avoiding program"
+  closest=$(grep -oE "closest [0-9.]+ mm" "$TMP/out" | grep -oE "[0-9.]+")
+  awk -v c="$closest" 'BEGIN { exit !(c >= 5.0) }' || fail "closest $closest mm, below the margin"
+  # The same CL points: the redundancy moved, not the tool.
+  cmp -s "$TMP/blind/POCKET.src" "$TMP/tower_$plan/POCKET.src" &&
+    fail "the program did not change"
+  passed
+done
+
+begin "a jaw the spindle must pass through: refused at its CL line, nothing written"
+convert_to "$TMP/jaw" --fixture "$setup/jaw_too_close.stl" "${part[@]}"
+expect_rc 2
+expect_err "pocket_arcs.apt:"
+expect_err "collision: the spindle and the fixture jaw_too_close.stl"
+expect_err "5 mm must stay between them"
+expect_err "Try:"
+[[ -z $(ls -A "$TMP/jaw") ]] || fail "files were left: $(ls "$TMP/jaw")"
+passed
+
+begin "bad STL files: file:line (ASCII) or the byte offset (binary), exit 2, nothing written"
+printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n' >"$TMP/bad.stl"
+convert_to "$TMP/bad" --fixture "$TMP/bad.stl"
+expect_rc 2
+expect_err "bad.stl:5:"
+[[ -z $(ls -A "$TMP/bad") ]] || fail "files were left"
+python3 - "$TMP/trunc.stl" <<'PY'
+import struct, sys
+with open(sys.argv[1], "wb") as f:
+    f.write(b"binary".ljust(80, b" ") + struct.pack("<I", 10) + b"\0" * 120)
+PY
+convert_to "$TMP/trunc" --fixture "$TMP/trunc.stl"
+expect_rc 2
+expect_err "byte offset"
+[[ -z $(ls -A "$TMP/trunc") ]] || fail "files were left"
+convert_to "$TMP/missing" --part "$TMP/no_such.stl"
+expect_rc 2
+expect_err "no_such.stl"
+run check "$TMP/blind/POCKET.src" --fixture "$setup/vise_jaw.stl"
+expect_rc 2
+expect_err "need --cell"
+passed
+
+echo "cli.collision: $checks checks passed"

@@ -1,0 +1,163 @@
+// The clearance check between poses (collision/clearance.hpp) against dense brute-force
+// sampling of the same motions: the least clearance it reports is a lower bound of every
+// sampled distance, and a motion that comes closer than the margin anywhere is never called
+// clear. Mutation-checked: with the motion bound halved (steps twice too long), the same
+// sampling must find a reported clearance that is too high.
+#include <iostream>
+#include <random>
+
+#include "catch_compat.hpp"
+#include "collision_support.hpp"
+#include "redpost/collision/clearance.hpp"
+#include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+
+namespace {
+
+struct Trial {
+  std::unique_ptr<JointPath> path;
+  JointVector q0;
+};
+
+// Obstacles on {B} around the arm's reach: spheres and boxes.
+std::vector<Body> obstacles(std::mt19937_64& rng, const Eigen::Vector3d& around, int count) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Body> out;
+  for (int k = 0; k < count; ++k) {
+    Shape s;
+    s.kind = k % 2 ? ShapeKind::box : ShapeKind::sphere;
+    s.radius_mm = 60.0 + 40.0 * u(rng);
+    s.size_mm = Eigen::Vector3d(150, 100, 80) + 50.0 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    s.T_frame_shape.translation() = around + 700.0 * Eigen::Vector3d(u(rng), u(rng), 0.6 * u(rng));
+    Body b;
+    b.name = "obstacle " + std::to_string(k);
+    b.role = BodyRole::fixture;
+    b.frame = kFrameBase;
+    b.shapes.push_back(s);
+    out.push_back(b);
+  }
+  return out;
+}
+
+// The least distance over every pair along the path, sampled densely (exact distances).
+double sampled_least(const CollisionScene& scene, const JointPath& path, int samples) {
+  const Cell& cell = scene.cell();
+  ScenePoses poses;
+  scene.prepare(poses);
+  KinematicsData data;
+  double least = 1e300;
+  JointVector q;
+  for (int k = 0; k <= samples; ++k) {
+    if (!path.at(static_cast<double>(k) / samples, q))
+      return std::numeric_limits<double>::quiet_NaN();
+    for (int i = 0; i < cell.size(); ++i) {
+      if (cell.joint(i).type == JointType::virtual_spin)
+        q[i] = 0.0;
+    }
+    forward_kinematics(cell, q, data);
+    scene.place(data, poses);
+    for (std::size_t p = 0; p < scene.pairs().size(); ++p)
+      least = std::min(least, scene.distance(static_cast<int>(p), poses, 1e300));
+  }
+  return least;
+}
+
+struct Outcome {
+  int motions = 0, too_high = 0, missed = 0, close = 0;
+};
+
+Outcome run(double bound_scale, int seed) {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const ArmIk ik(cell);
+  std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Outcome out;
+  const int track = cell.find_joint("d_L");
+  for (int scene_no = 0; scene_no < 6; ++scene_no) {
+    std::vector<Body> bodies = test::skeleton_bodies(cell, 70.0);
+    const JointVector home = cell.home();
+    const Eigen::Vector3d around = tcp_pose(cell, home).translation();
+    // The arm against the obstacles: the skeleton's links overlap where they meet, so its own
+    // pairs are allowed.
+    std::vector<std::pair<int, int>> allowed;
+    const int links = static_cast<int>(bodies.size());
+    for (int a = 0; a < links; ++a) {
+      for (int b = a + 1; b < links; ++b)
+        allowed.emplace_back(a, b);
+    }
+    for (Body& b : obstacles(rng, around, 8))
+      bodies.push_back(b);
+    CollisionScene scene(cell, bodies, allowed);
+    ClearanceSettings settings;
+    settings.margin_mm = 5.0;
+    settings.bound_scale = bound_scale;
+    ClearanceMonitor monitor(scene, settings);
+    for (int m = 0; m < 14; ++m) {
+      JointVector q0 = home, q1;
+      for (int i = 0; i < cell.size(); ++i)
+        q0[i] += 0.15 * u(rng) * (cell.joint(i).type == JointType::prismatic ? 1000.0 : 1.0);
+      std::unique_ptr<JointPath> path;
+      if (m % 3 == 0) {
+        // The track alone: a body moving straight at an obstacle, where the bound is tight.
+        q1 = q0;
+        q1[track] += 400.0 * u(rng);
+        path = std::make_unique<JointLinePath>(q0, q1);
+      } else if (m % 3 == 1) {
+        q1 = q0;
+        for (int i = 0; i < cell.size(); ++i)
+          q1[i] += 0.3 * u(rng) * (cell.joint(i).type == JointType::prismatic ? 1000.0 : 1.0);
+        path = std::make_unique<JointLinePath>(q0, q1);
+      } else {
+        // A LIN: the TCP moved along a line, the arm solved in its posture.
+        const int status = status_turn(cell, ik.status_model(), q0).status;
+        Isometry T = tcp_pose(cell, q0);
+        T.translation() += 150.0 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+        JointVector other = q0;
+        other[track] += 100.0 * u(rng);
+        const ArmIkSolutions sol = ik.solve(T, other, &q0, status);
+        if (!sol.valid[static_cast<std::size_t>(status)])
+          continue;
+        q1 = sol.q[static_cast<std::size_t>(status)];
+        path = std::make_unique<CartesianPath>(ik, cell, q0, q1);
+      }
+      if (!within_limits(cell, q0) || !within_limits(cell, q1))
+        continue;
+      const double sampled = sampled_least(scene, *path, 400);
+      if (std::isnan(sampled))
+        continue;
+      JointVector start;
+      path->at(0.0, start);
+      const MotionClearance first = monitor.start(start);
+      const MotionClearance along = monitor.advance(*path);
+      const double reported = std::min(first.least_mm, along.least_mm);
+      const bool clear = first.clear && along.clear;
+      ++out.motions;
+      out.close += sampled < 50.0;
+      // Called clear: the least reported is a lower bound of every sampled distance (up to
+      // FCL's tolerance). Not clear: a distance below the margin was found (or not proven).
+      out.too_high += clear ? reported > sampled + 1e-6 : !(reported < settings.margin_mm);
+      out.missed += sampled < settings.margin_mm && along.clear && first.clear;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the clearance between poses never misses what dense sampling finds", "[collision]") {
+  const Outcome o = run(1.0, 46);
+  INFO("motions " << o.motions << ", close " << o.close);
+  CHECK(o.motions > 40);
+  CHECK(o.close > 10);  // the scenes bring bodies near each other
+  CHECK(o.too_high == 0);
+  CHECK(o.missed == 0);
+}
+
+TEST_CASE("mutation: a bound that takes steps twice too long is caught", "[collision]") {
+  const Outcome o = run(0.5, 46);
+  INFO("motions " << o.motions << ", too high " << o.too_high << ", missed " << o.missed);
+  CHECK(o.too_high + o.missed > 0);
+}
