@@ -49,6 +49,10 @@ FILES = {
     # A jaw 10 mm beyond the pocket's front edge, 200 mm tall: the spindle, coaxial with the tool
     # (60 mm in radius), passes through it whatever the redundancy does. No program exists.
     "jaw_too_close.stl": ((-220.0, -500.0, 0.0), (-20.0, -490.0, 200.0)),
+    # A clamp strap across the part, 3 to 15 mm above the floor of the two short cuts of
+    # tests/cli/test_collision.sh: only the rapid traverse between them, at cutting height,
+    # would cross it.
+    "clamp_strap.stl": ((-125.0, -470.0, 60.0), (-115.0, -410.0, 72.0)),
 }
 
 

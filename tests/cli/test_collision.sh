@@ -84,6 +84,51 @@ expect_err "Try:"
 [[ -z $(ls -A "$TMP/jaw") ]] || fail "files were left: $(ls "$TMP/jaw")"
 passed
 
+begin "only a rapid crosses the clamp strap: routed up over it, proven from the KRL text"
+cat >"$TMP/strap.apt" <<'APT'
+PARTNO/RAPID OVER A CLAMP STRAP
+UNITS/MM
+CUTTER/10.,0
+LOADTL/1
+SPINDL/12000,RPM,CLW
+RAPID
+GOTO/-170,-440,110
+RAPID
+GOTO/-170,-440,62
+FEDRAT/200,MMPM
+GOTO/-170,-440,57
+FEDRAT/MMPM,900
+GOTO/-150,-440,57
+RAPID
+GOTO/-90,-440,57
+FEDRAT/MMPM,900
+GOTO/-70,-440,57
+RAPID
+GOTO/-70,-440,110
+SPINDL/OFF
+FINI
+APT
+# The tool as the tool table gives it: check knows a tool by its TOOL_DATA entry.
+cat >"$TMP/tools.xml" <<'XML'
+<tool-table>
+  <tool number="1" data="1" length="119.7" diameter="10" flute-length="30" holder-diameter="40"
+        holder-length="40"/>
+</tool-table>
+XML
+strap=(--fixture "$setup/clamp_strap.stl" --tools "$TMP/tools.xml")
+rm -rf "$TMP/strap0" "$TMP/strap" && mkdir -p "$TMP/strap0" "$TMP/strap"
+run convert "$TMP/strap.apt" --cell "$cell" -o "$TMP/strap0" --name STRAP --tools "$TMP/tools.xml"
+expect_rc 0
+run check "$TMP/strap0/STRAP.src" --cell "$cell" "${strap[@]}"
+expect_rc 1
+expect_out "collision: fixture clamp_strap.stl vs tool 1 cutter"
+run convert "$TMP/strap.apt" --cell "$cell" -o "$TMP/strap" --name STRAP "${strap[@]}"
+expect_rc 0
+expect_err "strap.apt:15: this rapid traverse would come closer than 5 mm to a body: it is written 100 mm up"
+run check "$TMP/strap/STRAP.src" --cell "$cell" "${strap[@]}"
+expect_rc 0
+passed
+
 begin "bad STL files: file:line (ASCII) or the byte offset (binary), exit 2, nothing written"
 printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n' >"$TMP/bad.stl"
 convert_to "$TMP/bad" --fixture "$TMP/bad.stl"

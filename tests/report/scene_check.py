@@ -123,7 +123,8 @@ def stop_driver(proc):
 # Run in the page; arguments[0] is the scene index.
 INFO_JS = """const s = window.redpostScenes[arguments[0]];
 return {webgl: s.webgl, expected: s.expectedLinks, frames: s.frameCount, dpr: devicePixelRatio,
-        links: s.webgl ? s.linkCount() : null, fk: s.webgl ? s.fkErrorMm() : null};"""
+        links: s.webgl ? s.linkCount() : null, fk: s.webgl ? s.fkErrorMm() : null,
+        bodies: s.webgl ? s.bodyCount() : null};"""
 # What a user's drag does: a new value and an input event (not setFrame: the wiring is tested).
 SLIDE_JS = """const s = window.redpostScenes[arguments[0]];
 s.canvas.scrollIntoView({block: 'center'});
@@ -212,6 +213,9 @@ def check_scene(wd, i, args, fails, stats):
     if info["links"] != args.links:
         fails.append(f"scene {i}: {info['links']} link solids in the scene, expected "
                      f"{args.links} (the page was told {info['expected']})")
+    if args.bodies is not None and info["bodies"] != args.bodies:
+        fails.append(f"scene {i}: {info['bodies']} bodies of the collision check in the scene, "
+                     f"expected {args.bodies}")
     if not isinstance(fk, (int, float)) or not fk < 0.01:  # `not <` also catches NaN (null)
         fails.append(f"scene {i}: forward kinematics is {fmt(fk)} mm off the C++ TCP "
                      "(limit 0.01 mm)")
@@ -314,6 +318,8 @@ def main():
     p.add_argument("html", metavar="REPORT.html")
     p.add_argument("--links", type=int, required=True, metavar="N",
                    help="link solids each scene must hold")
+    p.add_argument("--bodies", type=int, metavar="N",
+                   help="the bodies of the collision check each scene must draw")
     p.add_argument("--out-dir", metavar="DIR",
                    help="keep the screenshots there as scene-<i>-a.png and scene-<i>-b.png")
     p.add_argument("--min-diff-pixels", type=int, default=200, metavar="N",

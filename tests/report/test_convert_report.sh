@@ -45,4 +45,8 @@ if [ -n "${REDPOST_SANITIZER:-}" ]; then
   exit 0
 fi
 links=$(grep -c '<joint ' "$src/definitions/cells/andres2011_kr15_track_table.xml")
-exec python3 "$here/scene_check.py" "$out/convert_report.html" --links "$links" --out-dir "$out"
+# The collision check's bodies (issue 46): the cell's, counted from its file, and the pocket's
+# tool (its CUTTER/ diameter: one cutter).
+bodies=$(($(grep -c '<body ' "$src/definitions/cells/andres2011_kr15_track_table.xml") + 1))
+exec python3 "$here/scene_check.py" "$out/convert_report.html" --links "$links" \
+  --bodies "$bodies" --out-dir "$out"

@@ -164,7 +164,8 @@ void ClearanceMonitor::interval(const JointPath& path, int depth, const Node& a,
   JointVector qm;
   if (!path.at(m.s, qm)) {
     out.clear = false;
-    note(out, -1.0, pairs.front(), m.s, Proximity{});
+    out.path_lost = true;  // no distance: the arm cannot follow the path there
+    out.s = m.s;
     return;
   }
   set_posture(m, qm);
@@ -212,6 +213,7 @@ MotionClearance ClearanceMonitor::advance(const JointPath& path) {
   JointVector q1;
   if (!path.at(1.0, q1)) {
     out.clear = false;
+    out.path_lost = true;
     return out;
   }
   set_posture(b, q1);
@@ -223,6 +225,8 @@ MotionClearance ClearanceMonitor::advance(const JointPath& path) {
     JointVector qm;
     if (!path.at(0.5, qm)) {
       out.clear = false;
+      out.path_lost = true;
+      out.s = 0.5;
       return out;
     }
     m.q = qm;
@@ -284,6 +288,7 @@ MotionClearance ClearanceMonitor::advance(const JointPath& path) {
 MotionClearance ClearanceMonitor::probe(const JointPath& path) {
   const Node saved = node(0);
   const bool was_started = started_;
+  const std::vector<double> saved_last = last_motion_;
   JointVector q0;
   MotionClearance out;
   if (!path.at(0.0, q0)) {
@@ -307,6 +312,7 @@ MotionClearance ClearanceMonitor::probe(const JointPath& path) {
   rest.distance_queries += first.distance_queries;
   node(0) = saved;
   started_ = was_started;
+  last_motion_ = saved_last;
   return rest;
 }
 

@@ -241,7 +241,7 @@ void KrlClearanceCheck::State::motion(const KrlMotionRecord& m) {
         last_length = length;
       }
     }
-    if (r.pair < 0 && !r.clear)
+    if (r.path_lost)
       not_checked(m, "its path leaves the arm's reach in its posture");
     else
       note(m, r);

@@ -194,6 +194,14 @@ void PostSession::Impl::check_clearance(KrlMotionKind kind, const JointVector& q
     summary.least_clearance_pair = scene->pair_name(c.nearest_pair);
   }
   summary.proven_clearance_mm = std::min(summary.proven_clearance_mm, c.least_mm);
+  if (c.path_lost) {
+    throw Error(ErrorCode::unreachable,
+                fmt::format("the controller's path of this {} cannot be followed by the arm in "
+                            "the posture it starts in (at {:.0f} % of it), so its clearance "
+                            "cannot be checked",
+                            motion_words(kind), 100.0 * c.s),
+                SourceLocation{o.source_name, cl_line, 0});
+  }
   motion_clearance = c;
   // The tracker steers clear where this motion came near a body (its extra goal).
   if (clearance_goal)
@@ -209,13 +217,17 @@ void PostSession::Impl::collision_fail(const MotionClearance& c, KrlMotionKind k
   const std::string where = c.s <= 0.0   ? "at its start"
                             : c.s >= 1.0 ? "at its end"
                                          : fmt::format("at {:.0f} % of it", 100.0 * c.s);
+  const std::string rapid =
+      routing_rapid ? "this rapid traverse, also when routed up along the tool axis by 100, 200 "
+                      "and 400 mm; "
+                    : "";
   const std::string distance =
       c.least_mm <= 0.0 ? std::string("would touch or pass through each other")
                         : fmt::format("would come within {:.2f} mm of each other", c.least_mm);
   throw Error(ErrorCode::unreachable,
-              fmt::format("collision: the {} and the {} {} on this {} ({}; {:g} mm must stay "
+              fmt::format("collision: the {} and the {} {} on this {} ({}{}; {:g} mm must stay "
                           "between them, --collision-margin). Try: {}",
-                          a.name, b.name, distance, motion_words(kind), where,
+                          a.name, b.name, distance, motion_words(kind), rapid, where,
                           o.collision.margin_mm, collision_advice(a, b, planning())),
               SourceLocation{o.source_name, cl_line, 0});
 }
@@ -356,6 +368,119 @@ PoseResult PostSession::Impl::clear_first_pose(const TcpTarget& target, const Po
   if (r.status != PoseStatus::converged)
     return solved;
   return r;
+}
+
+}  // namespace redpost
+
+namespace redpost {
+
+PostSession::Impl::TrackedState PostSession::Impl::tracked_state() const {
+  TrackedState s;
+  s.poses = summary.poses;
+  s.joints = summary.joints;
+  s.lowest = summary.lowest_inv_condition;
+  s.lowest_line = summary.lowest_inv_condition_line;
+  s.plan_s = plan_s;
+  s.last_target = last_target;
+  s.cl_point = last_cl_point;
+  s.cl_axis = last_cl_axis;
+  return s;
+}
+
+void PostSession::Impl::restore_tracked(const TrackedState& s, const JointVector& q) {
+  summary.poses = s.poses;
+  summary.joints = s.joints;
+  summary.lowest_inv_condition = s.lowest;
+  summary.lowest_inv_condition_line = s.lowest_line;
+  plan_s = s.plan_s;
+  last_target = s.last_target;
+  last_cl_point = s.cl_point;
+  last_cl_axis = s.cl_axis;
+  tracker.reset(q);
+  line_steps.clear();
+}
+
+bool PostSession::Impl::rapid_clear(const JointVector& q1, bool ptp) {
+  if (!clearance || !clearance->started() || !have_written)
+    return true;
+  if (ptp)
+    return clearance->probe(JointLinePath(q_written, q1)).clear;
+  std::string why;
+  if (const ArmIk* ik = arm_ik_for_active(why))
+    return clearance->probe(CartesianPath(*ik, *active_cell, q_written, q1)).clear;
+  return clearance->probe(JointLinePath(q_written, q1)).clear;
+}
+
+void PostSession::Impl::route_rapid_up(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis,
+                                       int cl_line) {
+  const JointVector q_start = tracker.q();
+  const TrackedState start = tracked_state();
+  const Eigen::Vector3d z0 = last_cl_axis, z1 = axis.normalized();
+  for (const double lift : {100.0, 200.0, 400.0}) {
+    // Up along the tool axis (out of the material), over at the higher of the two heights,
+    // down along the target's axis.
+    const Eigen::Vector3d up0 = start.cl_point + lift * z0;
+    const Eigen::Vector3d up1 = p_mm + lift * z1;
+    const Eigen::Vector3d legs[3] = {up0, up1, p_mm};
+    const Eigen::Vector3d axes[3] = {z0, z1, z1};
+    bool clear = true;
+    try {
+      for (int k = 0; k < 3 && clear; ++k) {
+        const JointVector qa = tracker.q();
+        track_line(target_in_B(legs[k], axes[k], cl_line), cl_line, false);
+        last_target = target_in_B(legs[k], axes[k], cl_line);
+        // Each leg from where the one before ends: probe it from there.
+        const JointVector qb = tracker.q();
+        std::string why;
+        const ArmIk* ik = arm_ik_for_active(why);
+        clear = !clearance || (ik ? clearance->probe(CartesianPath(*ik, *active_cell, qa, qb)).clear
+                                  : clearance->probe(JointLinePath(qa, qb)).clear);
+      }
+    } catch (const Error&) {
+      clear = false;  // a leg out of reach: higher, or refused below
+    }
+    restore_tracked(start, q_start);
+    if (!clear)
+      continue;
+    summary.warnings.push_back(fmt::format(
+        "{}:{}: this rapid traverse would come closer than {:g} mm to a body: it is written "
+        "{:g} mm up along the tool axis, over and down instead (docs/collision.md)",
+        o.source_name, cl_line, o.collision.margin_mm, lift));
+    routing_rapid = true;
+    set_speed(o.rapid_velocity_m_per_s, false);
+    for (int k = 0; k < 3; ++k) {
+      const TcpTarget t = target_in_B(legs[k], axes[k], cl_line);
+      track_line(t, cl_line, false);
+      emit_line(cl_line);
+      last_target = t;
+      remember_cl(legs[k], axes[k]);
+    }
+    routing_rapid = false;
+    return;
+  }
+  // None clear: the straight rapid is tracked and written as it was, and its check refuses it
+  // with the two bodies and the distance.
+  routing_rapid = true;
+  const TcpTarget target = target_in_B(p_mm, axis, cl_line);
+  track_line(target, cl_line, false);
+  set_speed(o.rapid_velocity_m_per_s, false);
+  emit_line(cl_line);
+  routing_rapid = false;
+  last_target = target;
+  remember_cl(p_mm, axis);
+}
+
+}  // namespace redpost
+
+namespace redpost {
+
+std::vector<Body> PostSession::collision_bodies() const {
+  std::vector<Body> out;
+  if (!impl_->scene)
+    return out;
+  for (int i = 0; i < impl_->scene->body_count(); ++i)
+    out.push_back(impl_->scene->body(i));
+  return out;
 }
 
 }  // namespace redpost

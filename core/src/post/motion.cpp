@@ -461,6 +461,7 @@ void PostSession::Impl::rapid_piece(const Eigen::Vector3d& p_mm, const Eigen::Ve
                                     bool below) {
   const TcpTarget target = target_in_B(p_mm, axis, cl_line);
   const JointVector q_from = tracker.q();
+  const TrackedState before = tracked_state();
   const bool may_ptp = !below && plane.has_value();
   const bool on_line = track_line(target, cl_line, may_ptp);
   bool ptp = may_ptp && ptp_stays_above(q_from, tracker.q(), *plane);
@@ -469,6 +470,13 @@ void PostSession::Impl::rapid_piece(const Eigen::Vector3d& p_mm, const Eigen::Ve
                 "the straight line of this rapid traverse is not trackable, and a PTP to its end "
                 "would dip below the clearance plane",
                 SourceLocation{o.source_name, cl_line, 0});
+  }
+  // A rapid that would come too close to a body goes up along the tool axis, over and down
+  // instead (collision.cpp).
+  if (!routing_rapid && !rapid_clear(tracker.q(), ptp)) {
+    restore_tracked(before, q_from);
+    route_rapid_up(p_mm, axis, cl_line);
+    return;
   }
   if (ptp) {
     emit(KrlMotionKind::rapid, tracker.q(), cl_line);

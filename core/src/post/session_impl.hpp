@@ -324,6 +324,26 @@ struct PostSession::Impl {
   std::vector<int> unclear_keyframes(const std::vector<JointVector>& q, double need);
   void avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanWindowResult& r,
                      const PathPlanner& pl, const JointVector* start, PlanBatch& batch);
+  // A rapid's motion from the last written posture to q1 (a PTP, else a LIN) clear of every body,
+  // probed without writing; true where nothing is checked.
+  bool rapid_clear(const JointVector& q1, bool ptp);
+  // The rapid from the last CL point to p_mm as three LINs: up along the tool axis, over, down
+  // along the target's tool axis, 100, 200 or 400 mm up (the first whose legs are all clear);
+  // refused (Error) where none is.
+  void route_rapid_up(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis, int cl_line);
+  bool routing_rapid = false;
+  // What tracking a move changes before anything is written, to try a move and take it back.
+  struct TrackedState {
+    long poses = 0;
+    std::vector<JointRange> joints;
+    double lowest = 0.0;
+    int lowest_line = 0;
+    double plan_s = 0.0;
+    TcpTarget last_target;
+    Eigen::Vector3d cl_point, cl_axis;
+  };
+  TrackedState tracked_state() const;
+  void restore_tracked(const TrackedState& s, const JointVector& q);
   // The first pose (or an approach's) clear of every body: the tracker's solution, else the
   // nearest to home of the arm's closed-form postures at its external axes and spins.
   PoseResult clear_first_pose(const TcpTarget& target, const PoseResult& solved);

@@ -6,7 +6,7 @@
 // three.js (global THREE) and its OrbitControls, inlined before it.
 //
 // For the browser test it exposes window.redpostScenes (one object per view: linkCount(),
-// frameCount, setFrame(k), armScreenBox(), fkErrorMm(), ...) and marks
+// bodyCount(), frameCount, setFrame(k), armScreenBox(), fkErrorMm(), ...) and marks
 // <html data-scene-ready="N"> once all N views are built (data-scene-error on a failure).
 (function() {
 'use strict';
@@ -153,6 +153,7 @@ function View(root, data) {
   }
   this.buildLinks();
   this.buildTable();
+  this.buildBodies();
   this.solve(0);
   this.updateLinks();
   this.buildFloor();
@@ -340,6 +341,86 @@ View.prototype.updateLinks = function() {
     this.armPoints.push(this.tip);
   this.tableFrame.matrix.copy(this.W_inv);
   this.tableFrame.matrixWorldNeedsUpdate = true;
+  this.updateBodies();
+};
+
+// The bodies of the collision check (docs/collision.md), translucent: the cell's (orange), the
+// tool's (grey), the fixtures (brown) and the part (green). Those on {B} are drawn in the table's
+// frame; the others follow their link, or the TCP, frame by frame (updateBodies). The closest
+// approach of the program is a red line between its two nearest points.
+View.prototype.buildBodies = function() {
+  var colours = {cell: 0xf0a040, tool: 0x9aa0a8, fixture: 0x8b5a2b, part: 0x3c9a5f};
+  var self = this;
+  this.bodyGroups = [];
+  (this.data.bodies || []).forEach(function(b) {
+    var g = new THREE.Group(), mat = new THREE.MeshLambertMaterial({
+      color: colours[b.role] || 0x888888,
+      transparent: true,
+      opacity: b.role === 'part' || b.role === 'fixture' ? 0.45 : 0.28,
+      depthWrite: false
+    });
+    g.userData.body = b.name;  // not a link: scene_check.py counts those apart
+    g.userData.frame = b.frame;
+    g.matrixAutoUpdate = false;
+    b.shapes.forEach(function(s) {
+      var T = m34(s.T);
+      var add = function(geometry, local) {
+        var mesh = new THREE.Mesh(geometry, mat);
+        mesh.matrixAutoUpdate = false;
+        mesh.matrix.multiplyMatrices(T, local || new THREE.Matrix4());
+        g.add(mesh);
+      };
+      // three.js's cylinders stand on y; ours lie on z.
+      var onZ = new THREE.Matrix4().makeRotationX(Math.PI / 2);
+      if (s.kind === 'sphere') {
+        add(new THREE.SphereBufferGeometry(s.radius, 20, 14));
+      } else if (s.kind === 'box') {
+        add(new THREE.BoxBufferGeometry(s.size[0], s.size[1], s.size[2]));
+      } else if (s.kind === 'cylinder' || s.kind === 'capsule') {
+        add(new THREE.CylinderBufferGeometry(s.radius, s.radius, s.length, 24), onZ);
+        if (s.kind === 'capsule') {
+          [-0.5, 0.5].forEach(function(end) {
+            add(new THREE.SphereBufferGeometry(s.radius, 20, 14),
+                new THREE.Matrix4().makeTranslation(0, 0, end * s.length));
+          });
+        }
+      } else if (s.kind === 'mesh') {
+        var geo = new THREE.BufferGeometry();
+        geo.setAttribute('position', new THREE.Float32BufferAttribute(floatsOf(s.vertices), 3));
+        geo.setIndex(Array.prototype.slice.call(uintsOf(s.triangles)));
+        geo.computeVertexNormals();
+        add(geo);
+      }
+    });
+    (b.frame === -1 ? self.tableFrame : self.scene).add(g);
+    self.bodyGroups.push(g);
+  });
+  if (this.data.closest) {
+    var c = this.data.closest, a = new THREE.Vector3().fromArray(c.a).applyMatrix4(this.T_B_part);
+    var e = new THREE.Vector3().fromArray(c.b).applyMatrix4(this.T_B_part);
+    var red = new THREE.MeshBasicMaterial({color: 0xd62728});
+    this.closestLine = new THREE.Line(
+        new THREE.BufferGeometry().setFromPoints([a, e]),
+        new THREE.LineBasicMaterial({color: 0xd62728}));
+    this.tableFrame.add(this.closestLine);
+    [a, e].forEach(function(p) {
+      var dot = new THREE.Mesh(new THREE.SphereBufferGeometry(4, 12, 8), red);
+      dot.position.copy(p);
+      self.tableFrame.add(dot);
+    });
+  }
+};
+
+// Each body on a link (or the TCP) at the frame shown.
+View.prototype.updateBodies = function() {
+  var self = this;
+  (this.bodyGroups || []).forEach(function(g) {
+    var f = g.userData.frame;
+    if (f === -1)
+      return;  // in the table's frame already
+    g.matrix.copy(self.world(f === -2 ? self.chain.tcp : self.chain.after[f]));
+    g.matrixWorldNeedsUpdate = true;
+  });
 };
 
 // The table under the workpiece: a disc on a turntable ({B} turns with it), a slab otherwise;
@@ -570,6 +651,16 @@ View.prototype.linkCount = function() {
   return count;
 };
 
+// The bodies of the collision check in the scene (one group each, userData.body).
+View.prototype.bodyCount = function() {
+  var count = 0;
+  this.scene.traverse(function(o) {
+    if (o.userData.body)
+      count++;
+  });
+  return count;
+};
+
 // The largest distance (mm) between this page's TCP and the host's over the kept motions.
 View.prototype.fkErrorMm = function() {
   var worst = 0, part_B = new THREE.Matrix4().getInverse(this.T_B_part);
@@ -613,6 +704,7 @@ View.prototype.api = function() {
     frameCount: v.frameCount,
     expectedLinks: v.expectedLinks,
     linkCount: function() { return v.linkCount(); },
+    bodyCount: function() { return v.bodyCount(); },
     setFrame: function(k) { v.setFrame(k); },
     armScreenBox: function() { return v.armScreenBox(); },
     fkErrorMm: function() { return v.fkErrorMm(); }

@@ -142,6 +142,22 @@ std::string cell_json(const SceneCell& c) {
   return out;
 }
 
+std::string body_json(const SceneBody& b) {
+  std::string out = fmt::format("{{\"name\":{},\"role\":{},\"frame\":{},\"shapes\":[",
+                                json_string(b.name), json_string(b.role), b.frame);
+  for (std::size_t i = 0; i < b.shapes.size(); ++i) {
+    const SceneShape& s = b.shapes[i];
+    out += fmt::format("{}{{\"kind\":{},\"T\":{},\"radius\":{},\"length\":{},\"size\":{}",
+                       i ? "," : "", json_string(s.kind), json_array(s.T.data(), 12),
+                       json_number(s.radius_mm), json_number(s.length_mm),
+                       json_array(s.size_mm.data(), 3));
+    if (s.kind == "mesh")
+      out += ",\"vertices\":" + b64_floats(s.vertices) + ",\"triangles\":" + b64_uints(s.triangles);
+    out += "}";
+  }
+  return out + "]}";
+}
+
 std::string scene_json(const Scene3d& s) {
   std::string out = "{\"cell\":" + cell_json(s.cell) + ",\"quantities\":[";
   for (std::size_t q = 0; q < s.quantities.size(); ++q) {
@@ -169,7 +185,16 @@ std::string scene_json(const Scene3d& s) {
                        i ? "," : "", json_array(r.corner.data(), 3), json_array(r.edge_u.data(), 3),
                        json_array(r.edge_v.data(), 3), json_string(r.colour), json_string(r.name));
   }
-  return out + "]}";
+  out += "],\"bodies\":[";
+  for (std::size_t i = 0; i < s.bodies.size(); ++i)
+    out += (i ? "," : "") + body_json(s.bodies[i]);
+  out += "]";
+  if (s.closest.shown) {
+    out += fmt::format(",\"closest\":{{\"a\":{},\"b\":{},\"label\":{}}}",
+                       json_array(s.closest.a.data(), 3), json_array(s.closest.b.data(), 3),
+                       json_string(s.closest.label));
+  }
+  return out + "}";
 }
 
 // What the reader is told about the decimation (the limits of Scene3dLimits).
@@ -215,9 +240,18 @@ std::string render_scene3d(const Scene3d& s, const std::string& id) {
   out += "<div class=\"s3-colour\"><label>" + esc(label) +
          " coloured by <select class=\"s3-quantity\">" + options +
          "</select></label> <span class=\"s3-bar\"></span></div>\n</div>\n";
+  std::string bodies;
+  if (!s.bodies.empty()) {
+    bodies =
+        " Translucent: the bodies of the collision check (the cell's orange, the tool's grey, "
+        "the fixtures brown, the part green).";
+  }
+  if (s.closest.shown)
+    bodies += " The red line joins the closest approach's two points: " + s.closest.label + ".";
   out += "<p>" + esc(decimation_note(s)) +
          " Drag to turn the view, scroll to zoom, right-drag to pan. The red dot is the TCP at "
-         "the motion shown.</p>\n";
+         "the motion shown." +
+         esc(bodies) + "</p>\n";
   out += fmt::format("<script type=\"application/json\" id=\"{}-data\">{}</script>\n", id,
                      scene_json(s));
   return out;

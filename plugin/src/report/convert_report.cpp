@@ -669,7 +669,7 @@ std::string ConvertReport::html(const std::string& path, const rp_session* sessi
     d.deflection.add_section(r, session, motion_axis(d.motions));
     d.clearance.add_section(r, session, motion_axis(d.motions));
     add_toolpath_section(r, d);
-    d.scene->add_section(r, session);
+    d.scene->add_section(r, session, d.clearance.closest());
     count_warnings(r, run_total, run_shown);
     return r.html();
   } catch (const Error&) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "abi_internal.hpp"
 #include "scene_cell.hpp"
 
 namespace redpost::run_report {
@@ -33,6 +34,62 @@ std::vector<rep::SceneQuantity> quantities() {
                      "limit zone"};
   q[kDeflection] = {"deflection normal to the wall", "mm", false, kNaN, "tolerance"};
   return q;
+}
+
+// The collision check's bodies for the page (scene3d.hpp): each shape in its body's frame; a
+// mesh of more than kSceneMaxMeshTriangles triangles as its box.
+std::vector<rep::SceneBody> scene_bodies(const std::vector<Body>& bodies) {
+  const auto to34 = [](const Isometry& T) {
+    rep::Transform34 out{};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c)
+        out[static_cast<std::size_t>(4 * r + c)] = T.linear()(r, c);
+      out[static_cast<std::size_t>(4 * r + 3)] = T.translation()[r];
+    }
+    return out;
+  };
+  std::vector<rep::SceneBody> out;
+  for (const Body& b : bodies) {
+    rep::SceneBody sb;
+    sb.name = b.name;
+    sb.role = b.is_tool() ? "tool" : b.role == BodyRole::cell ? "cell" : to_string(b.role);
+    sb.frame = b.frame == kFrameTcp ? -2 : b.frame;
+    for (const Shape& s : b.shapes) {
+      rep::SceneShape ss;
+      ss.kind = to_string(s.kind);
+      ss.T = to34(s.T_frame_shape);
+      ss.radius_mm = s.radius_mm;
+      ss.length_mm = s.length_mm;
+      ss.size_mm = {s.size_mm.x(), s.size_mm.y(), s.size_mm.z()};
+      if (s.kind == ShapeKind::mesh && s.mesh) {
+        if (s.mesh->triangles.size() <= rep::kSceneMaxMeshTriangles) {
+          for (const Eigen::Vector3d& v : s.mesh->vertices) {
+            for (int k = 0; k < 3; ++k)
+              ss.vertices.push_back(static_cast<float>(v[k]));
+          }
+          for (const auto& t : s.mesh->triangles) {
+            for (int k : t)
+              ss.triangles.push_back(static_cast<std::uint32_t>(k));
+          }
+        } else {
+          // Too large for the page: its box, in the mesh's frame.
+          Eigen::Vector3d lo = s.mesh->vertices.front(), hi = lo;
+          for (const Eigen::Vector3d& v : s.mesh->vertices) {
+            lo = lo.cwiseMin(v);
+            hi = hi.cwiseMax(v);
+          }
+          Isometry T = s.T_frame_shape;
+          T.translation() += T.linear() * (0.5 * (lo + hi));
+          ss.kind = "box";
+          ss.T = to34(T);
+          ss.size_mm = {hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
+        }
+      }
+      sb.shapes.push_back(std::move(ss));
+    }
+    out.push_back(std::move(sb));
+  }
+  return out;
 }
 
 }  // namespace
@@ -82,10 +139,20 @@ void SceneTrace::on_motion(const rp_motion& m) {
   recorder_.add(s);
 }
 
-void SceneTrace::add_section(rep::HtmlReport& r, const rp_session* session) const {
+void SceneTrace::add_section(rep::HtmlReport& r, const rp_session* session,
+                             const ClearanceTrace::Closest* closest) const {
   if (recorder_.motions() == 0)
     return;
   rep::Scene3d scene = recorder_.scene();
+  if (session->post)
+    scene.bodies = scene_bodies(session->post->collision_bodies());
+  if (closest && closest->exact) {
+    scene.closest.shown = true;
+    scene.closest.a = closest->a;
+    scene.closest.b = closest->b;
+    scene.closest.label = fmt::format("{:.1f} mm, {}, motion {} (CL line {})", closest->mm,
+                                      closest->pair, closest->motion, closest->line);
+  }
   rp_deflection_summary ds{};
   ds.struct_size = sizeof ds;
   const bool deflection =

@@ -6,6 +6,7 @@
 // within Scene3dLimits, so memory and page size do not grow with the run.
 #pragma once
 
+#include "convert_report_clearance.hpp"
 #include "redpost.h"
 #include "redpost/report/html_report.hpp"
 #include "redpost/report/scene3d.hpp"
@@ -21,7 +22,9 @@ class SceneTrace {
   void on_motion(const rp_motion& m);
 
   // The section, after rp_prepare (the deflection tolerance is read from the session then).
-  void add_section(report::HtmlReport& r, const rp_session* session) const;
+  // With the closest approach of the clearance section, marked in the view (null: none).
+  void add_section(report::HtmlReport& r, const rp_session* session,
+                   const ClearanceTrace::Closest* closest) const;
 
  private:
   report::SceneCell cell_;

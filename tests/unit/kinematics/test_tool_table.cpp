@@ -99,3 +99,41 @@ TEST_CASE(
     }
   }
 }
+
+TEST_CASE("tool_table: a tool's geometry for the collision check", "[tool_table]") {
+  const ToolTable t = parse_tool_table(
+      "<tool-table>\n"
+      "  <tool number=\"3\" data=\"3\" length=\"150\" diameter=\"12\" flute-length=\"40\"\n"
+      "        shank-diameter=\"11\" holder-diameter=\"50\" holder-length=\"0.06 m\"/>\n"
+      "  <tool number=\"4\" data=\"4\" length=\"100\"/>\n"
+      "</tool-table>\n",
+      "tools.xml");
+  const ToolEntry* e = t.find(3);
+  REQUIRE(e);
+  CHECK(e->diameter_mm == Approx(12.0));
+  CHECK(e->flute_length_mm == Approx(40.0));
+  CHECK(e->shank_diameter_mm == Approx(11.0));
+  CHECK(e->holder_diameter_mm == Approx(50.0));
+  CHECK(e->holder_length_mm == Approx(60.0));
+  CHECK(std::isnan(t.find(4)->diameter_mm));  // not given: the CL file's
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\" diameter=\"0\"/>\n"
+      "</tool-table>",
+      2, "diameter must be > 0");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\" diameter=\"8\"\n"
+      "holder-diameter=\"40\"/>\n</tool-table>",
+      2, "needs both holder-diameter and holder-length");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\" diameter=\"8\"\n"
+      "flute-length=\"30\" holder-diameter=\"40\" holder-length=\"30\"/>\n</tool-table>",
+      2, "do not fit in its length");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\" flute-length=\"30\"/>\n"
+      "</tool-table>",
+      2, "need the cutter's diameter");
+  expect_bad(
+      "<tool-table>\n<tool number=\"1\" data=\"1\" length=\"50\" flute=\"30\"/>\n"
+      "</tool-table>",
+      2, "unknown attribute 'flute'");
+}

@@ -49,8 +49,11 @@ struct MotionClearance {
   double least_mm = std::numeric_limits<double>::infinity();
   int pair = -1;
   double s = 0.0;  // where along the motion (0 start, 1 end)
-  // False: a pair comes closer than the margin (or cannot be proven not to).
+  // False: a pair comes closer than the margin (or cannot be proven not to), or the path is lost.
   bool clear = true;
+  // The arm cannot follow the motion's path somewhere (its IK fails in the posture it starts
+  // in): no distance there, so not proven clear.
+  bool path_lost = false;
   // The nearest points where the least was computed exactly ({B}); exact false otherwise.
   Proximity where;
   // The least distance computed exactly on the motion (at its end and where it was halved),

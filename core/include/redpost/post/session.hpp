@@ -19,6 +19,7 @@
 #include "redpost/cl/event.hpp"
 #include "redpost/cl/expander.hpp"
 #include "redpost/cl/point_reduction.hpp"
+#include "redpost/collision/body.hpp"
 #include "redpost/collision/setup.hpp"
 #include "redpost/kinematics/cell.hpp"
 #include "redpost/kinematics/controller_axes.hpp"
@@ -333,6 +334,10 @@ class PostSession {
   // Replaces PostOptions::on_motion, for hosts that attach an observer after opening. Under
   // PostOptions::plan_threads >= 2 the observer is called on the session's tracking thread.
   void set_motion_observer(MotionObserver observer);
+
+  // The bodies of the collision check in force (the cell's, the set-up's, the last tool's;
+  // docs/collision.md), for a host that draws them; empty where nothing is checked.
+  std::vector<Body> collision_bodies() const;
 
   const PoseResult& last_pose() const;
   const PostSummary& summary() const;

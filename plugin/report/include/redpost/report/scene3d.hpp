@@ -91,6 +91,33 @@ struct SceneRect {
   std::string name;
 };
 
+// A body of the collision check (docs/collision.md), drawn translucent with the cell: its shapes
+// in the frame it moves with.
+struct SceneShape {
+  std::string kind;              // "sphere", "capsule", "cylinder", "box", "mesh"
+  Transform34 T = identity34();  // in the body's frame; capsule and cylinder along z, centred
+  double radius_mm = 0.0, length_mm = 0.0;
+  std::array<double, 3> size_mm{};       // box: edge lengths
+  std::vector<float> vertices;           // mesh: x y z per vertex (mm)
+  std::vector<std::uint32_t> triangles;  // mesh: three vertex indices per triangle
+};
+struct SceneBody {
+  std::string name;
+  std::string role;  // "cell", "tool", "fixture", "part": the colour
+  int frame = -1;    // a link's index (the frame after it), -1 the cell's {B}, -2 the TCP
+  std::vector<SceneShape> shapes;
+};
+// A mesh of more triangles is drawn as its box, so that the page stays small.
+inline constexpr std::size_t kSceneMaxMeshTriangles = 20000;
+
+// The closest approach of two bodies along the program: a line between the two nearest points
+// (in the workpiece frame), marked in the view.
+struct SceneClosest {
+  bool shown = false;
+  std::array<double, 3> a{}, b{};
+  std::string label;  // "16.8 mm, arm_link_5 vs fixture clamp_tower.stl, motion 48"
+};
+
 // What the page gets: the cell, the kept motions and the thinned toolpath.
 struct Scene3d {
   SceneCell cell;
@@ -111,6 +138,9 @@ struct Scene3d {
   bool path_as_points = false;
   std::vector<SceneRect> rects;
   std::string path_name = "toolpath";  // what the path is, for the page's labels
+  // Set by the host after scene(): the bodies of the collision check, and the closest approach.
+  std::vector<SceneBody> bodies;
+  SceneClosest closest;
   std::string line_label = "CL line";  // what frame_line counts, for the readout
   // How the data were decimated, for the page's note.
   long motions = 0;
