@@ -77,8 +77,10 @@ done
 begin "a jaw the spindle must pass through: refused at its CL line, nothing written"
 convert_to "$TMP/jaw" --fixture "$setup/jaw_too_close.stl" "${part[@]}"
 expect_rc 2
-expect_err "pocket_arcs.apt:"
-expect_err "collision: the spindle and the fixture jaw_too_close.stl"
+# Line 11: the rapid down into the pocket brings the spindle (coaxial with the tool, r 60 mm,
+# 120 mm above the tip) 50 mm from the jaw's face, below its top; routed up it still must come down.
+expect_err "pocket_arcs.apt:11: collision: the spindle and the fixture jaw_too_close.stl"
+expect_err "routed up along the tool axis"
 expect_err "5 mm must stay between them"
 expect_err "Try:"
 [[ -z $(ls -A "$TMP/jaw") ]] || fail "files were left: $(ls "$TMP/jaw")"

@@ -94,6 +94,10 @@ void PostSession::Impl::rebuild_scene() {
   clearance.reset();
   goal_proxy.goal = nullptr;
   clearance_goal.reset();
+  // The planning side's monitor too: a new scene may take the old one's address. (A tool
+  // change drains the pipeline before the next window is planned: no plan runs meanwhile.)
+  plan_monitor.reset();
+  plan_monitor_scene = nullptr;
   scene = std::move(next);
   summary.collision_bodies = scene->body_count();
   summary.collision_pairs = static_cast<int>(scene->pairs().size());
@@ -286,7 +290,8 @@ void PostSession::Impl::avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanW
       thread_local ScenePoses poses;
       thread_local KinematicsData fk;
       thread_local const CollisionScene* sized = nullptr;
-      if (sized != s) {
+      // A new scene may take a freed one's address: its size tells them apart as well.
+      if (sized != s || poses.T_B_body.size() != static_cast<std::size_t>(s->body_count())) {
         s->prepare(poses);
         sized = s;
       }
