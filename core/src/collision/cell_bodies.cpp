@@ -9,6 +9,7 @@
 
 #include "io/strict_xml.hpp"
 #include "kinematics/definition_reader.hpp"
+#include "redpost/collision/convex_hull.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/io/text_file.hpp"
 
@@ -67,6 +68,45 @@ void between(const DefinitionReader& r, const XMLElement* e, Shape& s) {
   s.T_frame_shape.translation() = 0.5 * (p1 + p2);
 }
 
+// <convex x y z a b c> around its <point x y z/> children, or <convex file="..."/> around an
+// STL's vertices: the hull's closed mesh, which the scene makes one convex body.
+void read_convex(const DefinitionReader& r, const XMLElement* e, Shape& s) {
+  r.only_attributes(e, {"file", "x", "y", "z", "a", "b", "c"});
+  s.kind = ShapeKind::mesh;
+  s.T_frame_shape = pose(r, e);
+  std::vector<Eigen::Vector3d> points;
+  std::string what;
+  if (e->Attribute("file")) {
+    if (e->FirstChildElement())
+      r.fail(e, "<convex> has a file and <point> elements: give one or the other");
+    const std::string file = beside(r.source(), e->Attribute("file"));
+    try {
+      points = load_stl(file).vertices;
+    } catch (const Error& err) {
+      r.fail(e, "<convex file=\"" + std::string(e->Attribute("file")) +
+                    "\">: " + format_error(err.where(), err.message()));
+    }
+    what = "<convex file=\"" + std::string(e->Attribute("file")) + "\">";
+  } else {
+    for (const XMLElement* p = e->FirstChildElement(); p; p = p->NextSiblingElement()) {
+      if (std::string_view(p->Name()) != "point")
+        r.fail(p, "unknown element <" + std::string(p->Name()) + "> in <convex> (known: point)");
+      r.only_attributes(p, {"x", "y", "z"});
+      for (const char* axis : {"x", "y", "z"})
+        r.required(p, axis);
+      points.push_back(point(r, p, "x", "y", "z"));
+      if (points.back().cwiseAbs().maxCoeff() > kMaxShapeMm)
+        r.fail(p, "<point> more than 100 m from its frame's origin: a typo, or metres for mm?");
+    }
+    what = "<convex>";
+  }
+  try {
+    s.mesh = std::make_shared<TriangleMesh>(convex_hull(points, what));
+  } catch (const Error& err) {
+    r.fail(e, err.message());
+  }
+}
+
 Shape read_shape(const DefinitionReader& r, const XMLElement* e) {
   Shape s;
   s.line = e->GetLineNum();
@@ -96,9 +136,11 @@ Shape read_shape(const DefinitionReader& r, const XMLElement* e) {
       r.fail(e, "<mesh file=\"" + std::string(e->Attribute("file")) +
                     "\">: " + format_error(err.where(), err.message()));
     }
+  } else if (n == "convex") {
+    read_convex(r, e, s);
   } else {
     r.fail(e, "unknown element <" + std::string(n) +
-                  "> in <body> (known: sphere, capsule, cylinder, box, mesh)");
+                  "> in <body> (known: sphere, capsule, cylinder, box, mesh, convex)");
   }
   return s;
 }

@@ -10,6 +10,9 @@
 //       <sphere x y z radius/>
 //       <box x y z a b c dx dy dz/>             centre, KUKA A B C (deg), edge lengths
 //       <mesh file="spindle.stl" x y z a b c/>  an STL (mm), beside the cell file
+//       <convex x y z a b c>                    the convex hull of the points (or file="...stl":
+//         <point x y z/> ...                    of its vertices), convex_hull.hpp
+//       </convex>
 //     </body>
 //     <allow a="link_1" b="link_2"/>            never checked: they always touch
 //   </collision>
