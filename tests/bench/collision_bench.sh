@@ -24,17 +24,8 @@ trap 'rm -rf "$work"' EXIT
 command -v /usr/bin/time >/dev/null || { echo "needs GNU time (apt-get install time)"; exit 1; }
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u '+%Y-%m-%d %H:%M UTC')"
 python3 "$top/tests/bench/make_raster_apt.py" "$poses" "$work/raster.apt"
-# The raster covers x -300..100, y -650..-250 at z 60 (make_raster_apt.py): clamps 40 mm beyond
-# its left and right edges, 120 mm tall, and the part under it.
-python3 - "$top/examples/setup" "$work" <<'PY'
-import sys
-sys.path.insert(0, sys.argv[1])
-from make_setup import box_stl
-out = sys.argv[2]
-open(f"{out}/clamp_left.stl", "w").write(box_stl("clamp_left", (-370, -560, 0), (-340, -340, 120)))
-open(f"{out}/clamp_right.stl", "w").write(box_stl("clamp_right", (140, -560, 0), (170, -340, 120)))
-open(f"{out}/part.stl", "w").write(box_stl("part", (-310, -660, 0), (110, -240, 55)))
-PY
+# Clamps beside the raster and the part under it (write_fixture_scene.py).
+python3 "$top/tests/bench/write_fixture_scene.py" "$work"
 scene=(--fixture "$work/clamp_left.stl" --fixture "$work/clamp_right.stl" --part "$work/part.stl")
 echo "raster: $poses poses, --threads $threads, median of $runs runs"
 printf '%-6s %9s %9s %10s %12s %s\n' mode "wall s" "CPU s" "RSS MB" "distances" "closest"

@@ -4,7 +4,8 @@
 # parts), then `redpost check` on that program and `redpost diff` against the same raster
 # converted with --plan local. Prints wall time and peak RSS of each (GNU time), and check's and
 # diff's time over the convert that wrote the program (targets: check <= 1.0x, diff <= 2.0x,
-# each <= 64 MB).
+# each <= 64 MB); and check's clearance from the text, with the cell's bodies and with a fixture
+# scene (issue 46).
 #
 # Usage: tests/bench/review_bench.sh [BUILD_DIR] [POSES]   (default: build, 1000000)
 set -euo pipefail
@@ -40,8 +41,19 @@ timed "convert (--plan local)" "$redpost" convert "$work/raster.apt" --cell "$ce
 timed "check" "$redpost" check "$work/a/RASTER.src" --cell "$cell"
 check_s=$seconds
 echo "  $(tail -1 "$work/log" | cut -c1-120)"
+# The clearance recomputed from the text (issue 46): the cell's and the tool's bodies, then the
+# fixture scene of collision_bench.sh (two clamps beside the raster, the part under it).
+timed "check --clearance" "$redpost" check "$work/a/RASTER.src" --cell "$cell" --clearance
+clearance_s=$seconds
+echo "  $(grep -m1 'closest' "$work/log" | cut -c1-120)"
+python3 "$top/tests/bench/write_fixture_scene.py" "$work"
+timed "check with the fixture scene" "$redpost" check "$work/a/RASTER.src" --cell "$cell" \
+  --fixture "$work/clamp_left.stl" --fixture "$work/clamp_right.stl" --part "$work/part.stl"
+scene_s=$seconds
+echo "  $(grep -m1 'closest' "$work/log" | cut -c1-120)"
 timed "diff (global against local plan)" "$redpost" diff "$work/a/RASTER.src" "$work/b/RASTER.src"
 diff_s=$seconds
 echo "  $(grep -m1 '^different\|^equal' "$work/log" | cut -c1-120)"
-awk -v c="$convert_s" -v k="$check_s" -v d="$diff_s" \
-  'BEGIN { printf "check %.2fx and diff %.2fx the convert that wrote the program\n", k / c, d / c }'
+awk -v c="$convert_s" -v k="$check_s" -v d="$diff_s" -v l="$clearance_s" -v f="$scene_s" \
+  'BEGIN { printf "check %.2fx and diff %.2fx the convert that wrote the program\n", k / c, d / c
+           printf "check --clearance %.2fx, with the fixture scene %.2fx\n", l / c, f / c }'
