@@ -131,6 +131,37 @@ run check "$TMP/strap/STRAP.src" --cell "$cell" "${strap[@]}"
 expect_rc 0
 passed
 
+begin "check: a LIN that would take A6 a hair past its limit, going on from the motion before"
+# A PTP leaves A6 at -349.99 deg; a LIN to the pose of A6 = -350.01 (the same as +9.99, which a
+# solver free to pick A6's turn within the limits would take) makes the controller's A6 go on
+# to -350.01 and stop at its software limit switch. A LIN to -349.995 is fine.
+e6pos() {  # e6pos "E2 E1 A1 .. A6 spin" (controller units): the TCP as X, Y, Z, A, B, C
+  echo "$1" | "$BIN" fk --cell "$cell" --axes | python3 -c '
+import math, sys
+v = [float(x) for x in sys.stdin.read().split()]
+x, y, z, r = v[0], v[1], v[2], v[3:12]
+a = math.degrees(math.atan2(r[3], r[0]))
+b = math.degrees(math.atan2(-r[6], math.hypot(r[0], r[3])))
+c = math.degrees(math.atan2(r[7], r[8]))
+print(f"X {x:.3f}, Y {y:.3f}, Z {z:.3f}, A {a:.4f}, B {b:.4f}, C {c:.4f}")'
+}
+for end in 9.99 -349.995; do
+  cat >"$TMP/limit.src" <<KRL
+DEF LIMIT()
+PTP {E6AXIS: A1 0, A2 -90, A3 90, A4 0, A5 45, A6 -349.99, E1 500, E2 0}
+LIN {E6POS: $(e6pos "0 500 0 -90 90 0 45 $end 0"), E1 500, E2 0}
+END
+KRL
+  run check "$TMP/limit.src" --cell "$cell" --clearance
+  if [[ $end == 9.99 ]]; then
+    expect_rc 1
+    expect_out "limit.src:3: joint limit: A6 would pass its limit of -350 deg by 0.01 deg on this LIN"
+  else
+    expect_rc 0
+  fi
+done
+passed
+
 begin "bad STL files: file:line (ASCII) or the byte offset (binary), exit 2, nothing written"
 printf 'solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0\n' >"$TMP/bad.stl"
 convert_to "$TMP/bad" --fixture "$TMP/bad.stl"

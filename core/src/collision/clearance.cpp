@@ -157,6 +157,7 @@ void ClearanceMonitor::interval(const JointPath& path, int depth, const Node& a,
       note(out, std::min(a.lb[pu], b.lb[pu]), p, a.s, Proximity{});
     }
     out.clear = false;  // not proven within the halvings allowed
+    out.unproven = true;
     return;
   }
   Node& m = node(2 + depth);

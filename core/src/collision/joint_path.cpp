@@ -1,6 +1,8 @@
 // The controller's paths in joint space (joint_path.hpp).
 #include "redpost/collision/joint_path.hpp"
 
+#include <cmath>
+
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/kinematics/status_turn.hpp"
 
@@ -58,6 +60,13 @@ bool CartesianPath::at(double s, JointVector& q) const {
   if (!sol.valid[mu])
     return false;
   q = sol.q[mu];
+  // The solver takes the 2*pi-equivalent of A4 and A6 within the limits nearest the chord; one
+  // more than half a turn from it means the nearest, which the controller's continuous path
+  // takes, lies beyond a limit: the controller stops at its software limit switch there.
+  for (int i = 0; i < cell_->size(); ++i) {
+    if (cell_->joint(i).type == JointType::revolute && std::abs(q[i] - q_other[i]) > kPi)
+      return false;
+  }
   return true;
 }
 

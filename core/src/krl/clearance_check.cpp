@@ -45,6 +45,7 @@ struct KrlClearanceCheck::State {
   const Cell& cell() const { return tool_cell ? *tool_cell : *o.cell; }
   void use_tool(const KrlMotionRecord& m);
   bool joints(const KrlMotionRecord& m, JointVector& q, std::string& why);
+  bool cp_beyond_limit(const KrlMotionRecord& m, const JointVector& q, std::string& why);
   void motion(const KrlMotionRecord& m);
   void note(const KrlMotionRecord& m, const MotionClearance& c);
 };
@@ -161,7 +162,42 @@ bool KrlClearanceCheck::State::joints(const KrlMotionRecord& m, JointVector& q, 
     return false;
   }
   q = sol.q[static_cast<std::size_t>(status)];
-  return true;
+  return !cp_beyond_limit(m, q, why);
+}
+
+// A LIN, CIRC or SPL moves the axes on continuously from where the motion before left them:
+// the solver's choice of A4's or A6's turn within the limits is then not the controller's when
+// the continuous value lies beyond a limit (a pose printed a hair past it), and the controller
+// stops at its software limit switch. A finding at the motion; `why` is left empty.
+bool KrlClearanceCheck::State::cp_beyond_limit(const KrlMotionRecord& m, const JointVector& q,
+                                               std::string& why) {
+  std::string kw;
+  for (char ch : m.keyword)
+    kw += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (!have_prev || kw == "PTP" || kw == "SPTP")
+    return false;
+  const Cell& c = cell();
+  for (int i = 0; i < c.size(); ++i) {
+    const Joint& j = c.joint(i);
+    if (j.type != JointType::revolute || j.axis.kind != AxisKind::arm)
+      continue;
+    const double turns = std::round((q_prev[i] - q[i]) / (2.0 * kPi));
+    const double continued = q[i] + 2.0 * kPi * turns;
+    if (continued >= j.lower && continued <= j.upper)
+      continue;
+    why.clear();
+    const double a = to_axis_value(j, j.lower), b = to_axis_value(j, j.upper);
+    const double v = to_axis_value(j, continued);
+    const double limit = v < std::min(a, b) ? std::min(a, b) : std::max(a, b);
+    findings.push_back(
+        {m.file, m.line,
+         fmt::format("joint limit: {} would pass its limit of {:g} deg by {:.2g} deg on this {}, "
+                     "going on from the motion before: the controller stops at its software "
+                     "limit switch",
+                     axis_name(j.axis), limit, std::abs(v - limit), m.keyword)});
+    return true;
+  }
+  return false;
 }
 
 void KrlClearanceCheck::State::note(const KrlMotionRecord& m, const MotionClearance& c) {
@@ -175,12 +211,15 @@ void KrlClearanceCheck::State::note(const KrlMotionRecord& m, const MotionCleara
   if (c.clear)
     return;
   const std::string pair = c.pair >= 0 ? scene->pair_name(c.pair) : std::string("?");
-  findings.push_back(
-      {m.file, m.line,
-       fmt::format("collision: {} {} on this {} ({:g} mm must stay between them)", pair,
-                   c.least_mm <= 0.0 ? std::string("touch or pass through each other")
-                                     : fmt::format("come within {:.2f} mm", c.least_mm),
-                   m.keyword, o.margin_mm)});
+  const char* unproven =
+      "cannot be proven to stay apart (the bound of the motion did not close: a joint that jumps "
+      "within it?)";
+  const std::string what = c.least_mm <= 0.0 ? std::string("touch or pass through each other")
+                           : c.unproven      ? std::string(unproven)
+                                             : fmt::format("come within {:.2f} mm", c.least_mm);
+  findings.push_back({m.file, m.line,
+                      fmt::format("collision: {} {} on this {} ({:g} mm must stay between them)",
+                                  pair, what, m.keyword, o.margin_mm)});
 }
 
 void KrlClearanceCheck::State::motion(const KrlMotionRecord& m) {
@@ -192,7 +231,8 @@ void KrlClearanceCheck::State::motion(const KrlMotionRecord& m) {
   JointVector q;
   std::string why;
   if (!joints(m, q, why)) {
-    not_checked(m, why);
+    if (!why.empty())
+      not_checked(m, why);
     return;
   }
   const Cell& c = cell();

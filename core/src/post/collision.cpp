@@ -225,8 +225,12 @@ void PostSession::Impl::collision_fail(const MotionClearance& c, KrlMotionKind k
       routing_rapid ? "this rapid traverse, also when routed up along the tool axis by 100, 200 "
                       "and 400 mm; "
                     : "";
+  const char* unproven =
+      "cannot be proven to stay apart (no distance computed on it is below the margin, but the "
+      "bound of the motion between them did not close: a joint that jumps within it?)";
   const std::string distance =
       c.least_mm <= 0.0 ? std::string("would touch or pass through each other")
+      : c.unproven      ? std::string(unproven)
                         : fmt::format("would come within {:.2f} mm of each other", c.least_mm);
   throw Error(ErrorCode::unreachable,
               fmt::format("collision: the {} and the {} {} on this {} ({}{}; {:g} mm must stay "

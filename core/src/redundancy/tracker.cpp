@@ -54,6 +54,13 @@ void Tracker::reset(const JointVector& q) {
 }
 
 namespace {
+// How far inside its limits the tracker stops a joint (tracker.cpp's clamp): 0.01 deg or
+// 0.01 mm, a quarter of the range at most.
+double limit_inset(const Joint& j) {
+  const double inset = j.type == JointType::prismatic ? 0.01 : deg_to_rad(0.01);
+  return std::min(inset, 0.25 * (j.upper - j.lower));
+}
+
 // Scales h down so that its weighted norm is at most `cap`.
 void cap_motion(const Cell& cell, double cap, JointVector& h) {
   double norm2 = 0.0;
@@ -175,12 +182,16 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
       s.dq *= o.max_iteration_step / std::sqrt(norm2);
     }
 
-    // A joint that would cross its limit stops at it and is locked for the rest of this pose.
+    // A joint that would cross its limit stops just inside it and is locked for the rest of
+    // this pose. Just inside: a LIN between two poses held at a limit bends off the line its
+    // ends give that joint, and the printed pose's rounding (0.0001 deg an angle) moves the
+    // wrist's axes too; at the limit itself either would stop the controller.
     for (int i = 0; i < n; ++i) {
       const Joint& j = cell.joint(i);
+      const double inset = limit_inset(j);
       double next = q[i] + s.dq[i];
-      if (next < j.lower || next > j.upper) {
-        next = next < j.lower ? j.lower : j.upper;
+      if (next < j.lower + inset || next > j.upper - inset) {
+        next = next < j.lower + inset ? j.lower + inset : j.upper - inset;
         s.inv_sqrt_w[i] = 0.0;
         clamped_any = true;
         r.offending_joint = i;

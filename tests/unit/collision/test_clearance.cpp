@@ -10,6 +10,7 @@
 #include "collision_support.hpp"
 #include "redpost/collision/clearance.hpp"
 #include "redpost/kinematics/arm_ik.hpp"
+#include "redpost/kinematics/controller_axes.hpp"
 #include "redpost/kinematics/forward_kinematics.hpp"
 #include "test_support.hpp"
 
@@ -160,4 +161,57 @@ TEST_CASE("mutation: a bound that takes steps twice too long is caught", "[colli
   const Outcome o = run(0.5, 46);
   INFO("motions " << o.motions << ", too high " << o.too_high << ", missed " << o.missed);
   CHECK(o.too_high + o.missed > 0);
+}
+
+TEST_CASE("a LIN whose A6 bends past its limit between ends within it is not followed",
+          "[collision]") {
+  // Both ends hold A6 at one value; the orientation slerped between them bends A6 off it. With
+  // the limit put between the two, the solver could still take A6's other turn (360 deg away,
+  // within the limits) at the middle: the controller's continuous A6 cannot, and stops there.
+  Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const int a1 = cell.find_joint("theta_1"), a6 = cell.find_joint("theta_6");
+  JointVector q0 = cell.home();
+  q0[a6] = from_axis_value(cell.joint(a6), 100.0);
+  JointVector q1 = q0;
+  q1[a1] += deg_to_rad(20.0);
+  q1[cell.find_joint("theta_5")] += deg_to_rad(15.0);
+  double bend = 0.0;
+  {
+    const ArmIk ik(cell);
+    const CartesianPath wide(ik, cell, q0, q1);
+    JointVector qm;
+    REQUIRE(wide.at(0.5, qm));
+    bend = qm[a6] - q0[a6];
+  }
+  REQUIRE(std::abs(bend) > 1e-4);
+  // The limit on the bend's side halfway to it; the other side far enough for A6's other turn
+  // at the middle, which a solver free to pick the turn within the limits would take.
+  Joint& j = cell.joints[static_cast<std::size_t>(a6)];
+  const double middle = q0[a6] + bend;
+  if (bend > 0.0) {
+    j.upper = q0[a6] + 0.5 * bend;
+    j.lower = std::min(j.lower, middle - 2.0 * kPi - 0.1);
+  } else {
+    j.lower = q0[a6] + 0.5 * bend;
+    j.upper = std::max(j.upper, middle + 2.0 * kPi + 0.1);
+  }
+  const ArmIk ik(cell);
+  const CartesianPath path(ik, cell, q0, q1);
+  JointVector q;
+  CHECK(path.at(0.0, q));
+  CHECK(path.at(1.0, q));
+  CHECK_FALSE(path.at(0.5, q));
+  // The monitor calls it lost, not clear.
+  const std::vector<Body> bodies = test::skeleton_bodies(cell, 10.0);
+  std::vector<std::pair<int, int>> allowed;
+  for (int a = 0; a < static_cast<int>(bodies.size()); ++a) {
+    for (int b = a + 1; b < static_cast<int>(bodies.size()); ++b)
+      allowed.emplace_back(a, b);
+  }
+  CollisionScene scene(cell, bodies, allowed);
+  ClearanceMonitor monitor(scene, ClearanceSettings{});
+  monitor.start(q0);
+  const MotionClearance c = monitor.advance(path);
+  CHECK_FALSE(c.clear);
+  CHECK(c.path_lost);
 }
