@@ -53,7 +53,7 @@ struct ConvertOptions {
   int cl_line_every = 50;
   double chordal_tolerance_mm = 0.01;
   double fit_tolerance_mm = 0.01;
-  int threads = 1;
+  int threads = 0;  // one per core, at most 8 (issue 47)
   double fit_angle_tolerance_deg = 0.1;
   std::string plan = "global";
   std::string preset = "smooth";
@@ -576,8 +576,9 @@ Runner add_convert_command(CLI::App& app) {
   c->add_option("--keyframe-spacing", opt->keyframe_spacing_mm,
                 "Path between the global plan's keyframes, mm (default 20)");
   c->add_option("--threads", opt->threads,
-                "Threads that solve the global plan's lattice together: 1 one thread (default), "
-                "0 one per core (at most 8). The program is the same for any count")
+                "Threads for the conversion: 0 one per core, at most 8 (default); 1 one thread. "
+                "The file is read, the plan solved and the program tracked and written on "
+                "threads of their own; the program is the same for any count")
       ->check(CLI::Range(0, 256));
   c->add_option("--lock", opt->locks,
                 "Hold an external axis: E1=500 at that value (mm or deg; global plan), E2 where "

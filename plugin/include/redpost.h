@@ -266,7 +266,10 @@ RP_API rp_status rp_prepare(rp_session* session);
 RP_API rp_status rp_close(rp_session* session);
 /* Added in 0.3.2. Removes every temporary file (and program lock file) of this process that
  * was not yet renamed into place. Async-signal-safe: a host's SIGTERM/SIGINT handler may call
- * it before the process ends. redpost also runs it at exit(). */
+ * it before the process ends. A program's swap under way (its files renamed in) is waited for
+ * (at most 5 s), and from this call on no session of the process creates or swaps in another
+ * file: a thread that would waits for the process to end. redpost also removes the temporaries
+ * at exit(). */
 RP_API void rp_remove_temporaries(void);
 /* Releases the session. A session that was not closed is abandoned: nothing is written. */
 RP_API void rp_free(rp_session* session);

@@ -418,7 +418,7 @@ RP_API rp_status rp_close(rp_session* session) {
 }
 
 RP_API void rp_remove_temporaries(void) {
-  redpost::remove_all_temporaries();
+  redpost::stop_and_remove_temporaries();
 }
 
 RP_API void rp_free(rp_session* session) {

@@ -208,6 +208,29 @@ for sig in TERM INT HUP; do
   fi
 done
 
+# The same with the pipeline's threads writing the parts (--threads 2): a stop request that lands
+# on one thread while another makes a part's temporary must still leave nothing (a temporary
+# made after the handler's clean-up once did). Staggered times, so that some land mid-part.
+for k in 1 2 3 4 5 6; do
+  OUT=$SCRATCH/threads_$k
+  mkdir -p "$OUT"
+  "$BIN" convert "$SCRATCH/big.apt" --fit-tol 0 --cell "$CELL" -o "$OUT" --threads 2 -q \
+    2>/dev/null &
+  pid=$!
+  wait_for "$OUT/.big.lock~" || fail "--threads 2, run $k: the run never started"
+  sleep "0.$((k * 15))"
+  kill -s HUP "$pid"
+  rc=0
+  wait "$pid" || rc=$?
+  checks=$((checks + 1))
+  if [[ $rc -ne $((128 + $(kill -l HUP))) ]]; then
+    fail "--threads 2, SIGHUP after 0.$((k * 15)) s: exit code $rc, expected $((128 + $(kill -l HUP)))"
+  elif [[ -n $(ls -A "$OUT") ]]; then
+    fail "--threads 2, SIGHUP after 0.$((k * 15)) s: left behind: $(ls -A "$OUT" | tr '\n' ' ')"
+  fi
+done
+ok "--threads 2: six stop requests at staggered times, nothing left behind"
+
 # A FIFO with no writer as the CL input: the run waits for it before any output file exists.
 # SIGKILL, so that no handler can tidy up: the folder is empty only if nothing was made.
 OUT=$SCRATCH/fifo

@@ -1,7 +1,6 @@
 #include "redpost/io/durable_write.hpp"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,25 +26,6 @@ std::string folder_of(const std::string& path) {
   const fs::path parent = fs::path(path).parent_path();
   return parent.empty() ? std::string(".") : parent.string();
 }
-
-// Holds SIGTERM, SIGINT and SIGHUP back in this thread for its lifetime.
-class StopSignalsHeld {
- public:
-  StopSignalsHeld() {
-    sigset_t stop;
-    sigemptyset(&stop);
-    sigaddset(&stop, SIGTERM);
-    sigaddset(&stop, SIGINT);
-    sigaddset(&stop, SIGHUP);
-    ::pthread_sigmask(SIG_BLOCK, &stop, &old_);
-  }
-  ~StopSignalsHeld() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
-  StopSignalsHeld(const StopSignalsHeld&) = delete;
-  StopSignalsHeld& operator=(const StopSignalsHeld&) = delete;
-
- private:
-  sigset_t old_;
-};
 
 // The swap of replace_files(), with what it has done so far, so that it can be undone.
 struct Swap {
@@ -146,7 +126,7 @@ void replace_files(const std::vector<Replacement>& files) {
     throw;
   }
   {
-    const StopSignalsHeld held;
+    const FileSection section;
     Swap swap{files, {}, 0};
     swap.move_old_aside();
     swap.rename_new_in();

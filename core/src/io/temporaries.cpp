@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/random.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -32,6 +33,18 @@ struct Slot {
 
 std::atomic<Slot*> g_slots{nullptr};
 std::mutex g_mutex;
+
+// FileSection's count of sections under way, and whether a stop was requested. Lock-free, so
+// that a signal handler may read and write them.
+std::atomic<int> g_sections{0};
+std::atomic<bool> g_stopping{false};
+static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free);
+
+void sleep_ms(long ms) {
+  timespec t{ms / 1000, (ms % 1000) * 1000000L};
+  while (::nanosleep(&t, &t) != 0 && errno == EINTR) {
+  }
+}
 
 // At exit (or when the library is unloaded): the temporaries go, and so does the list, so that
 // nothing the registry holds is left for a leak checker. A signal after this finds no list.
@@ -137,6 +150,37 @@ void remove_all_temporaries() noexcept {
   errno = saved_errno;
 }
 
+FileSection::FileSection() {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGTERM);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGHUP);
+  ::pthread_sigmask(SIG_BLOCK, &stop, &old_);
+  g_sections.fetch_add(1);
+  // Counted first, then the flag read (both sequentially consistent): a handler that set the
+  // flag before this read waits for the count; one that sets it after finds the count.
+  while (g_stopping.load()) {
+    g_sections.fetch_sub(1);
+    sleep_ms(1000);  // the handler ends the process
+    g_sections.fetch_add(1);
+  }
+}
+
+FileSection::~FileSection() {
+  g_sections.fetch_sub(1);
+  ::pthread_sigmask(SIG_SETMASK, &old_, nullptr);
+}
+
+void stop_and_remove_temporaries() noexcept {
+  const int saved_errno = errno;
+  g_stopping.store(true);
+  for (int waited = 0; g_sections.load() > 0 && waited < 5000; ++waited)
+    sleep_ms(1);
+  errno = saved_errno;
+  remove_all_temporaries();
+}
+
 std::string create_unique_beside(const std::string& final_path, const char* suffix) {
   std::string path;
   ::close(open_unique(final_path, suffix, path));
@@ -145,8 +189,12 @@ std::string create_unique_beside(const std::string& final_path, const char* suff
 
 Temporary create_temporary(const std::string& final_path) {
   Temporary t;
-  const int fd = open_unique(final_path, ".part~", t.path);
-  register_temporary(t.path);
+  int fd = -1;
+  {
+    const FileSection section;  // made and registered, or not made
+    fd = open_unique(final_path, ".part~", t.path);
+    register_temporary(t.path);
+  }
   t.file = ::fdopen(fd, "wb");
   if (!t.file) {
     const int err = errno;

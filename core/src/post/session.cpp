@@ -294,14 +294,12 @@ void PostSession::dispatch(PlanBatch& batch) {
 
 void PostSession::pump(bool flush) {
   Impl& m = *impl_;
-  // With two threads or more, the tracking and writing go to a thread of their own, which
-  // shares the plan's lattice nodes whenever it has caught up; the planning threads are the
-  // rest (planner_for_active).
+  // With two threads or more, the tracking and writing go to a thread of their own; the
+  // planning threads are the rest (planner_for_active).
   if (!m.stage && resolved_threads(m.o.plan_threads) >= 2) {
     if (!m.plan_pool)
       m.plan_pool = std::make_unique<WorkerPool>(resolved_threads(m.o.plan_threads) - 1);
-    m.stage = std::make_unique<DispatchStage<PlanBatch>>([this](PlanBatch& b) { dispatch(b); },
-                                                         m.plan_pool.get());
+    m.stage = std::make_unique<DispatchStage<PlanBatch>>([this](PlanBatch& b) { dispatch(b); });
   }
   PlanBatch batch;
   while (!m.deferred.empty()) {

@@ -24,7 +24,6 @@ constexpr std::size_t kChunk = 8;
 // threads than cores (tests run side by side, another process) loses little to the waiting.
 constexpr int kPauses = 256;
 constexpr int kYields = 200;
-static_assert(kPauses + kYields == WorkerPool::kPollsBeforeSleep);
 
 inline void relax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -35,24 +34,6 @@ inline void relax() {
 }
 
 }  // namespace
-
-void WorkerPool::poll_pause(int k) {
-  if (k < kPauses)
-    relax();
-  else
-    std::this_thread::yield();
-}
-
-void WorkerPool::attach_helper(std::function<void()> wake) {
-  wake_helper_ = std::move(wake);
-}
-
-void WorkerPool::help() {
-  helping_.fetch_add(1);
-  if (open_.load())
-    run_share();
-  helping_.fetch_sub(1);
-}
 
 int resolved_threads(int threads) {
   if (threads > 0)
@@ -124,7 +105,7 @@ void WorkerPool::work() {
 }
 
 void WorkerPool::for_each(std::size_t n, const std::function<void(std::size_t)>& body) {
-  if ((workers_.empty() && !wake_helper_) || n <= kChunk) {
+  if (workers_.empty() || n <= kChunk) {
     for (std::size_t i = 0; i < n; ++i)
       body(i);
     return;
@@ -133,19 +114,12 @@ void WorkerPool::for_each(std::size_t n, const std::function<void(std::size_t)>&
   n_ = n;
   next_.store(0, std::memory_order_relaxed);
   running_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
-  if (!workers_.empty()) {
-    {
-      // Under the lock, so that a worker between its last check and its sleep is not missed.
-      std::lock_guard<std::mutex> lock(mutex_);
-      generation_.fetch_add(1, std::memory_order_release);
-    }
-    wake_.notify_all();
+  {
+    // Under the lock, so that a worker between its last check and its sleep is not missed.
+    std::lock_guard<std::mutex> lock(mutex_);
+    generation_.fetch_add(1, std::memory_order_release);
   }
-  if (wake_helper_) {
-    open_.store(true);
-    if (helper_sleeping_.load())
-      wake_helper_();
-  }
+  wake_.notify_all();
   run_share();
   // Every worker has finished with this loop (its last chunk, or a look at an empty counter)
   // before the body goes out of scope.
@@ -154,12 +128,6 @@ void WorkerPool::for_each(std::size_t n, const std::function<void(std::size_t)>&
       relax();
     else
       std::this_thread::yield();
-  }
-  if (wake_helper_) {
-    // A helper that saw the loop open may still be in its last chunk.
-    open_.store(false);
-    for (int k = 0; helping_.load() != 0; ++k)
-      poll_pause(k);
   }
   body_ = nullptr;
   std::exception_ptr error;

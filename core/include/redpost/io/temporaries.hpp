@@ -7,6 +7,8 @@
 // that the rename stays within one file system and the name is never one a controller loads.
 #pragma once
 
+#include <signal.h>
+
 #include <cstdio>
 #include <string>
 
@@ -38,5 +40,27 @@ void remove_temporary(const std::string& path) noexcept;
 // list that is never freed and calls unlink(2), so a host's SIGTERM handler may call it (the
 // C ABI exports it as rp_remove_temporaries). Also run at exit().
 void remove_all_temporaries() noexcept;
+
+// A stretch of this thread in which a stop request must not land: creating and registering a
+// temporary, swapping a program's files in. SIGTERM, SIGINT and SIGHUP are held back in this
+// thread meanwhile, and stop_and_remove_temporaries(), on whichever thread a stop signal's
+// handler runs, waits for every section under way to end. Once a stop was requested, a thread
+// that would enter a section waits for the process to end instead: with several threads writing
+// (the pipeline), a temporary made after the handler's clean-up would otherwise be left behind.
+class FileSection {
+ public:
+  FileSection();
+  ~FileSection();
+  FileSection(const FileSection&) = delete;
+  FileSection& operator=(const FileSection&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
+// For a stop signal's handler, before the process ends: no section begins from now on, the
+// sections under way are waited for (at most 5 s: a swap's renames), then every registered
+// temporary is removed. Async-signal-safe (atomics, nanosleep(2), unlink(2)).
+void stop_and_remove_temporaries() noexcept;
 
 }  // namespace redpost

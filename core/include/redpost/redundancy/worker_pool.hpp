@@ -41,22 +41,6 @@ class WorkerPool {
 
   static constexpr int kMaxAutoThreads = 8;
 
-  // A thread from outside (the session's tracking thread, post/dispatch_stage.hpp) may take
-  // part in the loops while it has nothing else to do. `wake` is called when a loop starts while
-  // the helper said it sleeps (helper_sleeping); it must wake the helper's thread. Once, before
-  // the first loop.
-  void attach_helper(std::function<void()> wake);
-  // Whether a loop is open: the helper then calls help(), which runs indices of it until none
-  // are left. Never from inside a loop's body.
-  bool loop_open() const { return open_.load(); }
-  void help();
-  // The helper is about to sleep (true; it checks loop_open() after) or awake again (false).
-  void helper_sleeping(bool sleeping) { helper_sleeping_.store(sleeping); }
-
-  // Pauses and yields a waiting thread makes before it sleeps (the workers, a helper).
-  static constexpr int kPollsBeforeSleep = 456;
-  static void poll_pause(int k);
-
  private:
   void work();       // a worker thread's loop
   void run_share();  // takes indices of the current loop until none are left
@@ -71,12 +55,6 @@ class WorkerPool {
   std::atomic<std::size_t> next_{0};
   std::atomic<int> running_{0};  // workers not yet done with the current loop
   std::exception_ptr error_;
-  // The helper: whether a loop is open to it, how many helpers are inside one, and how to wake
-  // it (sequentially consistent: a helper that saw the loop open is waited for).
-  std::function<void()> wake_helper_;
-  std::atomic<bool> open_{false};
-  std::atomic<int> helping_{0};
-  std::atomic<bool> helper_sleeping_{false};
 };
 
 }  // namespace redpost
