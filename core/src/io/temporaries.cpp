@@ -40,6 +40,29 @@ std::atomic<int> g_sections{0};
 std::atomic<bool> g_stopping{false};
 static_assert(std::atomic<int>::is_always_lock_free && std::atomic<bool>::is_always_lock_free);
 
+// Holds SIGTERM, SIGINT and SIGHUP back in this thread; `old` gets the mask to put back.
+void hold_stop_signals(sigset_t* old) {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGTERM);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGHUP);
+  ::pthread_sigmask(SIG_BLOCK, &stop, old);
+}
+
+// The stop signals held back for its lifetime: around g_mutex too, so that a handler never runs
+// on a thread that holds it while it waits for a section that needs it.
+class StopSignalsHeld {
+ public:
+  StopSignalsHeld() { hold_stop_signals(&old_); }
+  ~StopSignalsHeld() { ::pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+  StopSignalsHeld(const StopSignalsHeld&) = delete;
+  StopSignalsHeld& operator=(const StopSignalsHeld&) = delete;
+
+ private:
+  sigset_t old_;
+};
+
 void sleep_ms(long ms) {
   timespec t{ms / 1000, (ms % 1000) * 1000000L};
   while (::nanosleep(&t, &t) != 0 && errno == EINTR) {
@@ -115,6 +138,7 @@ int open_unique(const std::string& final_path, const char* suffix, std::string& 
 void register_temporary(const std::string& path) {
   static std::once_flag once;
   std::call_once(once, [] { std::atexit(remove_at_exit); });
+  const StopSignalsHeld held;
   const std::lock_guard<std::mutex> lock(g_mutex);
   Slot* s = claim_slot();
   if (s->capacity < path.size() + 1) {
@@ -127,6 +151,7 @@ void register_temporary(const std::string& path) {
 }
 
 void forget_temporary(const std::string& path) noexcept {
+  const StopSignalsHeld held;
   const std::lock_guard<std::mutex> lock(g_mutex);
   for (Slot* s = g_slots.load(std::memory_order_acquire); s; s = s->next) {
     if (s->state.load(std::memory_order_relaxed) == Slot::live && path == s->path) {
@@ -151,12 +176,7 @@ void remove_all_temporaries() noexcept {
 }
 
 FileSection::FileSection() {
-  sigset_t stop;
-  sigemptyset(&stop);
-  sigaddset(&stop, SIGTERM);
-  sigaddset(&stop, SIGINT);
-  sigaddset(&stop, SIGHUP);
-  ::pthread_sigmask(SIG_BLOCK, &stop, &old_);
+  hold_stop_signals(&old_);
   g_sections.fetch_add(1);
   // Counted first, then the flag read (both sequentially consistent): a handler that set the
   // flag before this read waits for the count; one that sets it after finds the count.
