@@ -69,6 +69,14 @@ int tool_data_index(const std::string& tool) {
   return std::stoi(digits);
 }
 
+// The motion's keyword in capitals (KRL is case-blind): "LIN", "PTP", "SPL".
+std::string upper_keyword(const KrlMotionRecord& m) {
+  std::string kw;
+  for (char ch : m.keyword)
+    kw += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return kw;
+}
+
 JointVector physical(const Cell& cell, JointVector q) {
   for (int i = 0; i < cell.size(); ++i) {
     if (cell.joint(i).type == JointType::virtual_spin)
@@ -171,9 +179,7 @@ bool KrlClearanceCheck::State::joints(const KrlMotionRecord& m, JointVector& q, 
 // stops at its software limit switch. A finding at the motion; `why` is left empty.
 bool KrlClearanceCheck::State::cp_beyond_limit(const KrlMotionRecord& m, const JointVector& q,
                                                std::string& why) {
-  std::string kw;
-  for (char ch : m.keyword)
-    kw += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  const std::string kw = upper_keyword(m);
   if (!have_prev || kw == "PTP" || kw == "SPTP")
     return false;
   const Cell& c = cell();
@@ -239,9 +245,7 @@ void KrlClearanceCheck::State::motion(const KrlMotionRecord& m) {
   q = physical(c, q);
   const Isometry T = tcp_pose(c, q);
   if (monitor) {
-    std::string kw;
-    for (char ch : m.keyword)
-      kw += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    const std::string kw = upper_keyword(m);
     MotionClearance r;
     if (!have_prev || !monitor->started()) {
       r = monitor->start(q);

@@ -240,10 +240,6 @@ void PostSession::Impl::collision_fail(const MotionClearance& c, KrlMotionKind k
               SourceLocation{o.source_name, cl_line, 0});
 }
 
-}  // namespace redpost
-
-namespace redpost {
-
 // The keyframes whose posture, or the joints' straight line to it from the one before, comes
 // closer to a body than `need` (mm).
 std::vector<int> PostSession::Impl::unclear_keyframes(const std::vector<JointVector>& q,
@@ -379,10 +375,6 @@ PoseResult PostSession::Impl::clear_first_pose(const TcpTarget& target, const Po
   return r;
 }
 
-}  // namespace redpost
-
-namespace redpost {
-
 PostSession::Impl::TrackedState PostSession::Impl::tracked_state() const {
   TrackedState s;
   s.poses = summary.poses;
@@ -409,15 +401,17 @@ void PostSession::Impl::restore_tracked(const TrackedState& s, const JointVector
   line_steps.clear();
 }
 
+bool PostSession::Impl::probe_clear(const JointVector& qa, const JointVector& qb, bool ptp) {
+  std::string why;
+  const ArmIk* ik = ptp ? nullptr : arm_ik_for_active(why);
+  return ik ? clearance->probe(CartesianPath(*ik, *active_cell, qa, qb)).clear
+            : clearance->probe(JointLinePath(qa, qb)).clear;
+}
+
 bool PostSession::Impl::rapid_clear(const JointVector& q1, bool ptp) {
   if (!clearance || !clearance->started() || !have_written)
     return true;
-  if (ptp)
-    return clearance->probe(JointLinePath(q_written, q1)).clear;
-  std::string why;
-  if (const ArmIk* ik = arm_ik_for_active(why))
-    return clearance->probe(CartesianPath(*ik, *active_cell, q_written, q1)).clear;
-  return clearance->probe(JointLinePath(q_written, q1)).clear;
+  return probe_clear(q_written, q1, ptp);
 }
 
 void PostSession::Impl::route_rapid_up(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis,
@@ -436,14 +430,11 @@ void PostSession::Impl::route_rapid_up(const Eigen::Vector3d& p_mm, const Eigen:
     try {
       for (int k = 0; k < 3 && clear; ++k) {
         const JointVector qa = tracker.q();
-        track_line(target_in_B(legs[k], axes[k], cl_line), cl_line, false);
-        last_target = target_in_B(legs[k], axes[k], cl_line);
+        const TcpTarget t = target_in_B(legs[k], axes[k], cl_line);
+        track_line(t, cl_line, false);
+        last_target = t;
         // Each leg from where the one before ends: probe it from there.
-        const JointVector qb = tracker.q();
-        std::string why;
-        const ArmIk* ik = arm_ik_for_active(why);
-        clear = !clearance || (ik ? clearance->probe(CartesianPath(*ik, *active_cell, qa, qb)).clear
-                                  : clearance->probe(JointLinePath(qa, qb)).clear);
+        clear = !clearance || probe_clear(qa, tracker.q(), false);
       }
     } catch (const Error&) {
       clear = false;  // a leg out of reach: higher, or refused below
@@ -478,10 +469,6 @@ void PostSession::Impl::route_rapid_up(const Eigen::Vector3d& p_mm, const Eigen:
   last_target = target;
   remember_cl(p_mm, axis);
 }
-
-}  // namespace redpost
-
-namespace redpost {
 
 std::vector<Body> PostSession::collision_bodies() const {
   std::vector<Body> out;

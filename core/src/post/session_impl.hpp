@@ -327,6 +327,9 @@ struct PostSession::Impl {
   // A rapid's motion from the last written posture to q1 (a PTP, else a LIN) clear of every body,
   // probed without writing; true where nothing is checked.
   bool rapid_clear(const JointVector& q1, bool ptp);
+  // The motion from qa to qb as the controller runs it (a PTP, else a LIN through the arm's
+  // closed form where it has one) probed by the monitor without writing: clear of every body.
+  bool probe_clear(const JointVector& qa, const JointVector& qb, bool ptp);
   // The rapid from the last CL point to p_mm as three LINs: up along the tool axis, over, down
   // along the target's tool axis, 100, 200 or 400 mm up (the first whose legs are all clear);
   // refused (Error) where none is.

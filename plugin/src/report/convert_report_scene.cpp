@@ -39,15 +39,6 @@ std::vector<rep::SceneQuantity> quantities() {
 // The collision check's bodies for the page (scene3d.hpp): each shape in its body's frame; a
 // mesh of more than kSceneMaxMeshTriangles triangles as its box.
 std::vector<rep::SceneBody> scene_bodies(const std::vector<Body>& bodies) {
-  const auto to34 = [](const Isometry& T) {
-    rep::Transform34 out{};
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c)
-        out[static_cast<std::size_t>(4 * r + c)] = T.linear()(r, c);
-      out[static_cast<std::size_t>(4 * r + 3)] = T.translation()[r];
-    }
-    return out;
-  };
   std::vector<rep::SceneBody> out;
   for (const Body& b : bodies) {
     rep::SceneBody sb;
@@ -57,7 +48,7 @@ std::vector<rep::SceneBody> scene_bodies(const std::vector<Body>& bodies) {
     for (const Shape& s : b.shapes) {
       rep::SceneShape ss;
       ss.kind = to_string(s.kind);
-      ss.T = to34(s.T_frame_shape);
+      ss.T = from_isometry(s.T_frame_shape);
       ss.radius_mm = s.radius_mm;
       ss.length_mm = s.length_mm;
       ss.size_mm = {s.size_mm.x(), s.size_mm.y(), s.size_mm.z()};
@@ -81,7 +72,7 @@ std::vector<rep::SceneBody> scene_bodies(const std::vector<Body>& bodies) {
           Isometry T = s.T_frame_shape;
           T.translation() += T.linear() * (0.5 * (lo + hi));
           ss.kind = "box";
-          ss.T = to34(T);
+          ss.T = from_isometry(T);
           ss.size_mm = {hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z()};
         }
       }

@@ -19,6 +19,8 @@ report::Transform34 from_rows(const double* v) {
   return t;
 }
 
+}  // namespace
+
 report::Transform34 from_isometry(const Isometry& T) {
   report::Transform34 t;
   for (int r = 0; r < 3; ++r) {
@@ -28,8 +30,6 @@ report::Transform34 from_isometry(const Isometry& T) {
   }
   return t;
 }
-
-}  // namespace
 
 LimitMargin closest_limit(const Cell& cell, const JointVector& q) {
   LimitMargin m{std::numeric_limits<double>::quiet_NaN(), -1};

@@ -9,6 +9,9 @@
 
 namespace redpost::run_report {
 
+// A rigid transform as the page's 3 x 4 rows.
+report::Transform34 from_isometry(const Isometry& T);
+
 // Through rp_cell_info_get and rp_link_get. Throws Error when the ABI refuses.
 report::SceneCell scene_cell_of(const rp_session* session);
 

@@ -65,6 +65,19 @@ double worst_outside(const TriangleMesh& m, const std::vector<Eigen::Vector3d>& 
   return worst;
 }
 
+// A one-joint cell file with `collision` (its <collision> element) after the joint: lines 1-6
+// are the cell and its joint, so the element starts at line 7.
+std::string one_joint_cell(const std::string& collision) {
+  return R"(<?xml version="1.0"?>
+<cell name="t" format="1">
+  <joint name="j1" type="revolute">
+    <dh alpha="0" a="0" theta="0" d="0"/>
+    <limits min="-170" max="170"/><home value="0"/>
+  </joint>
+)" + collision +
+         "</cell>\n";
+}
+
 std::string error_of(const std::vector<Eigen::Vector3d>& points) {
   try {
     convex_hull(points, "<convex>");
@@ -129,13 +142,7 @@ TEST_CASE("convex hull: points that span no volume are refused", "[collision]") 
 }
 
 TEST_CASE("a <convex> body is as far from a ball as the box its points span", "[collision]") {
-  const std::string text = R"(<?xml version="1.0"?>
-<cell name="t" format="1">
-  <joint name="j1" type="revolute">
-    <dh alpha="0" a="0" theta="0" d="0"/>
-    <limits min="-170" max="170"/><home value="0"/>
-  </joint>
-  <collision>
+  const std::string text = one_joint_cell(R"(  <collision>
     <body name="hull" link="base">
       <convex x="100" z="10" c="30">
         <point x="-50" y="-20" z="-30"/><point x="50" y="-20" z="-30"/>
@@ -149,8 +156,7 @@ TEST_CASE("a <convex> body is as far from a ball as the box its points span", "[
       <sphere radius="5"/>
     </body>
   </collision>
-</cell>
-)";
+)");
   const Cell cell = parse_cell(text, "t.xml");
   const CellBodies cb = parse_cell_bodies(cell, text, "t.xml");
   REQUIRE(cb.bodies.size() == 2);
@@ -183,13 +189,7 @@ TEST_CASE("a <convex> body is as far from a ball as the box its points span", "[
 }
 
 TEST_CASE("a <convex> that spans no volume is refused at its line", "[collision]") {
-  const std::string text = R"(<?xml version="1.0"?>
-<cell name="t" format="1">
-  <joint name="j1" type="revolute">
-    <dh alpha="0" a="0" theta="0" d="0"/>
-    <limits min="-170" max="170"/><home value="0"/>
-  </joint>
-  <collision>
+  const std::string text = one_joint_cell(R"(  <collision>
     <body name="flat" link="base">
       <convex>
         <point x="0" y="0" z="0"/><point x="10" y="0" z="0"/><point x="0" y="10" z="0"/>
@@ -197,8 +197,7 @@ TEST_CASE("a <convex> that spans no volume is refused at its line", "[collision]
       </convex>
     </body>
   </collision>
-</cell>
-)";
+)");
   const Cell cell = parse_cell(text, "t.xml");
   try {
     parse_cell_bodies(cell, text, "t.xml");
@@ -221,17 +220,10 @@ TEST_CASE("<convex file> is the hull of an STL's vertices, open or not", "[colli
   const std::string path = (dir.path / "t.xml").string();
   {
     std::ofstream f(path);
-    f << R"(<?xml version="1.0"?>
-<cell name="t" format="1">
-  <joint name="j1" type="revolute">
-    <dh alpha="0" a="0" theta="0" d="0"/>
-    <limits min="-170" max="170"/><home value="0"/>
-  </joint>
-  <collision>
+    f << one_joint_cell(R"(  <collision>
     <body name="roof" link="j1"><convex file="roof.stl" z="5"/></body>
   </collision>
-</cell>
-)";
+)");
   }
   const CellBodies b = load_cell_bodies(load_cell(path));
   REQUIRE(b.bodies.size() == 1);
