@@ -202,14 +202,16 @@ expect_rc 1
 expect_out "apo_cdis differs at $motions motions: A 0.5 mm, B 1 mm"
 # Another chordal tolerance: point by point the programs differ; as curves they are within the
 # coarser tolerance (0.01 mm), and equal once the redundancy's freedom (the track, the table and
-# the spin, which the planner places anew for other points) is given its tolerance.
+# the spin, which the planner places anew for other points) is given its tolerance: 2 mm or deg
+# on the axes and 2 deg on the orientation (the spin about the tool's axis differs by up to 1.23
+# deg on the final retract since issue 47's costs; 0.62 deg before).
 run diff "$TMP/ref/P.src" "$TMP/fine/P.src"
 expect_rc 1
 grep -Eq "paths as curves: the largest distance from a point of one program to the other's path is 0\.00[0-9]* mm" \
   "$TMP/out" || fail "the curve distance is not within 0.01 mm: $(grep 'paths as' "$TMP/out")"
-run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.01 --axis-tol 2 --ang-tol 1
+run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.01 --axis-tol 2 --ang-tol 2
 expect_rc 0
-run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.001 --axis-tol 2 --ang-tol 1
+run diff "$TMP/ref/P.src" "$TMP/fine/P.src" --as-curves --path-tol 0.001 --axis-tol 2 --ang-tol 2
 expect_rc 1
 expect_out "path differs at "
 passed

@@ -275,7 +275,7 @@ std::vector<int> PostSession::Impl::unclear_keyframes(const std::vector<JointVec
 // still comes too close.
 void PostSession::Impl::avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanWindowResult& r,
                                       const PathPlanner& pl, const JointVector* start,
-                                      PlanBatch& batch) {
+                                      const PlanHistory* history, PlanBatch& batch) {
   constexpr int kAttempts = 8;
   const double margin = o.collision.margin_mm, extra = o.collision.plan_extra_mm;
   for (const double need : {margin + extra, margin + 0.25 * extra, margin + 0.05 * extra}) {
@@ -305,7 +305,7 @@ void PostSession::Impl::avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanW
         for (int j = std::max(0, k - reach); j <= std::min(final_kf, k + reach); ++j)
           filter.layers[static_cast<std::size_t>(j)] = 1;
       }
-      PlanWindowResult again = pl.plan(kf, start, 0, &filter);
+      PlanWindowResult again = pl.plan(kf, start, 0, &filter, history);
       batch.ik_evaluations += again.ik_evaluations;
       if (!again.feasible)
         break;  // none keeps this much room here: try with less

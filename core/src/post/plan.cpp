@@ -59,6 +59,7 @@ struct KeyframeWalk {
   double next_kf_s = 0.0;      // where the next keyframe goes
   double feed_mm_s = 0.0;
   bool rapid_next = false;
+  bool rapid_now = false;  // the motion walked is a rapid (its keyframes say so)
 
   PlanKeyframe at(const Eigen::Vector3d& p, const Eigen::Vector3d& z, double s_mm, double speed,
                   int line) const {
@@ -66,6 +67,7 @@ struct KeyframeWalk {
     k.target = TcpTarget::axis(o.T_B_part * p, o.T_B_part.linear() * z.normalized());
     k.s_mm = s_mm;
     k.speed_mm_s = speed;
+    k.rapid = rapid_now;
     k.cl_line = line;
     return k;
   }
@@ -102,7 +104,8 @@ struct KeyframeWalk {
 
   // The path of one motion call; its end's s.
   double motion(const ClEvent& e) {
-    const double speed = (e.rapid || rapid_next) ? 1000.0 * o.rapid_velocity_m_per_s : feed_mm_s;
+    rapid_now = e.rapid || rapid_next;
+    const double speed = rapid_now ? 1000.0 * o.rapid_velocity_m_per_s : feed_mm_s;
     rapid_next = false;
     if (e.kind == ClEventKind::arc) {
       const double norm = e.arc_axis.norm();
@@ -182,6 +185,16 @@ void PostSession::Impl::reset_plan() {
   tracker.stop_following();
 }
 
+std::bitset<kMaxJoints> external_axes(const Cell& cell) {
+  std::bitset<kMaxJoints> axes;
+  for (int i = 0; i < cell.size(); ++i) {
+    const Joint& j = cell.joint(i);
+    axes.set(static_cast<std::size_t>(i),
+             j.axis.kind == AxisKind::external && j.type != JointType::virtual_spin);
+  }
+  return axes;
+}
+
 const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
   if (!planner || planner_cell != active_cell) {
     std::string why;
@@ -194,6 +207,8 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
     }
     PathPlanSettings settings = o.plan_settings;
     settings.normal_deflection_mm = nominal_deflection(*active_cell);
+    // Rapids are written as PTPs at the template set's share of the axis speeds.
+    settings.rapid_velocity_fraction = ptp_velocity_fraction;
     // Under threads >= 2 the pool is the pipeline's (session.cpp, pump).
     settings.pool = plan_pool.get();
     planner = std::make_unique<PathPlanner>(*active_cell, *ik, settings);
@@ -224,10 +239,15 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
 
 void PostSession::Impl::follow_plan(double s_mm) {
   if (plan_q.empty()) {
-    tracker.stop_following();
+    if (hold_unplanned)
+      tracker.follow(tracker.q(), o.plan_follow_gain, 0.2, external_axes(*active_cell));
+    else
+      tracker.stop_following();
     return;
   }
-  tracker.follow(interpolate_plan(plan_kf, plan_q, s_mm), o.plan_follow_gain, 0.2);
+  // The external axes (track, table) run exactly as planned; the arm and the spin follow.
+  tracker.follow(interpolate_plan(plan_kf, plan_q, s_mm), o.plan_follow_gain, 0.2,
+                 external_axes(*active_cell));
 }
 
 // Commits the plan's keyframes up to commit_s (at least to the end of the first motion) into the
@@ -288,8 +308,15 @@ void PostSession::Impl::advance_cursor(const PlanBatch& batch) {
   if (batch.reset) {
     c.plan_empty = true;
     c.plan_s = batch.reset_plan_s;
+    c.tail_heading = {};
   }
   if (!batch.kf.empty()) {
+    // The committed postures, from the last one before them (a plan that goes on).
+    std::vector<JointVector> q;
+    if (!c.plan_empty && c.tail_q.size() == batch.q.front().size())
+      q.push_back(c.tail_q);
+    q.insert(q.end(), batch.q.begin(), batch.q.end());
+    update_heading(q, c.tail_heading);
     c.plan_empty = false;
     c.tail_kf = batch.kf.back();
     c.tail_q = batch.q.back();
@@ -424,7 +451,12 @@ bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
 
   const PathPlanner& pl = planner_for_active(w.kf.front().cl_line);
   const JointVector start_q = fresh ? JointVector() : from_tracker ? tracker.q() : c.tail_q;
-  PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q);
+  PlanHistory history;
+  history.heading = c.tail_heading;
+  // After a tool change the axes stand where the last plan left them.
+  if (fresh && c.started && c.tail_q.size() == active_cell->size())
+    history.standing = c.tail_q;
+  PlanWindowResult r = pl.plan(w.kf, fresh ? nullptr : &start_q, 0, nullptr, &history);
   ++batch.windows;
   batch.ik_evaluations += r.ik_evaluations;
   // The first window after an approach picks the branch the rest follows (where the table
@@ -434,21 +466,21 @@ bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
   // with the rotary external axes held at home is the second start; the cheaper one is kept
   // (later windows move those axes freely again).
   if (fresh && planner_held) {
-    PlanWindowResult held = planner_held->plan(w.kf, nullptr);
+    PlanWindowResult held = planner_held->plan(w.kf, nullptr, 0, nullptr, &history);
     batch.ik_evaluations += held.ik_evaluations;
     if (held.feasible && (!r.feasible || held.cost < r.cost))
       r = std::move(held);
   }
   if (!r.feasible) {
     // The beam may have lost the way: search wider once.
-    r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam);
+    r = pl.plan(w.kf, fresh ? nullptr : &start_q, 8 * pl.settings().beam, nullptr, &history);
     batch.ik_evaluations += r.ik_evaluations;
   }
   if (!r.feasible) {
     fall_back(w.kf, r.dead_keyframe, end, o.source_name, deferred, batch);
     return true;
   }
-  avoid_in_plan(w.kf, r, pl, fresh ? nullptr : &start_q, batch);
+  avoid_in_plan(w.kf, r, pl, fresh ? nullptr : &start_q, &history, batch);
 
   // Commit 85 % of the window (all of it at the end or before a tool change), and
   // at least up to the end of the first motion.

@@ -74,7 +74,8 @@ struct PlanCursor {
   bool plan_empty = true;  // no committed plan to go on from (start, tool change, fallback)
   PlanKeyframe tail_kf;    // the last committed keyframe and its posture
   JointVector tail_q;
-  double plan_s = 0.0;  // path length at the end of the last released motion
+  JointHeading tail_heading{};  // how each joint last moved in the committed plan
+  double plan_s = 0.0;          // path length at the end of the last released motion
   // The next window needs what only tracking gives (the tracker's posture after a stretch
   // tracked without the plan, the new tool's cell): the tracking must have caught up.
   bool sync = false;
@@ -94,6 +95,9 @@ struct PlanBatch {
   long windows = 0, ik_evaluations = 0, fallback_windows = 0;  // for the summary
 };
 
+// The cell's external axes that move metal (E1..E6 but the tool's virtual spin).
+std::bitset<kMaxJoints> external_axes(const Cell& cell);
+
 struct PostSession::Impl {
   const Cell& cell;  // as given, with the chain's TCP
   PostOptions o;
@@ -110,6 +114,9 @@ struct PostSession::Impl {
   bool started = false;
   bool prepared = false;          // prepare() ran: the files are complete, no event may follow
   bool approach_pending = false;  // after a tool change: the next move is a PTP approach
+  // A move no plan covers (the retract before a tool change): follow_plan holds the external
+  // axes where they are instead of Algorithm 1's centring.
+  bool hold_unplanned = false;
   bool next_rapid = false;
   double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN();
   bool feed_warned = false;
@@ -323,7 +330,8 @@ struct PostSession::Impl {
   const CollisionScene* plan_monitor_scene = nullptr;
   std::vector<int> unclear_keyframes(const std::vector<JointVector>& q, double need);
   void avoid_in_plan(const std::vector<PlanKeyframe>& kf, PlanWindowResult& r,
-                     const PathPlanner& pl, const JointVector* start, PlanBatch& batch);
+                     const PathPlanner& pl, const JointVector* start, const PlanHistory* history,
+                     PlanBatch& batch);
   // A rapid's motion from the last written posture to q1 (a PTP, else a LIN) clear of every body,
   // probed without writing; true where nothing is checked.
   bool rapid_clear(const JointVector& q1, bool ptp);

@@ -158,7 +158,13 @@ void PostSession::Impl::retract_for_tool_change(int cl_line, double longer_mm) {
   const Eigen::Vector3d up = last_cl_point + distance * last_cl_axis;
   set_speed(o.rapid_velocity_m_per_s, false);
   const TcpTarget target = target_in_B(up, last_cl_axis, cl_line);
+  // No plan covers this move: under the whole-path plan the external axes stay where the cut
+  // left them (Algorithm 1's centring would swing them towards home in the air, and the next
+  // tool's approach back), and the arm keeps its posture as near as the line allows.
+  hold_unplanned = true;
   track_line(target, cl_line, false);
+  hold_unplanned = false;
+  tracker.stop_following();
   emit_line(cl_line);
   last_target = target;
   remember_cl(up, last_cl_axis);

@@ -122,6 +122,7 @@ PathPlanner::PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettin
                               ? settings.prismatic_step_spacings * settings.keyframe_spacing_mm
                           : j.type == JointType::revolute ? deg_to_rad(settings.rotary_step_deg)
                                                           : deg_to_rad(settings.spin_step_deg);
+    external_[free_.size()] = j.type != JointType::virtual_spin;
     free_.push_back(i);
   }
 }
@@ -221,7 +222,34 @@ double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
     travel_s += travel_per_unit_[iu] * dq;
     need_s = std::max(need_s, need_per_unit_[iu] * dq);
   }
+  if (to.rapid)
+    return travel_s + s.w_time * need_s * s.speed_margin / s.rapid_velocity_fraction;
   return travel_s + s.w_time * std::max(0.0, need_s - dt);
+}
+
+// An external axis that turns back (Andres's redundancy has no view of it): it stops and starts
+// again at its own low acceleration, a corner in the time model, wear on the heavy axis, and
+// the shuttle a programmer sees under every raster line. The tool's spin is no axis.
+double PathPlanner::reversal_cost(const LatticeNode& a, const LatticeNode& b) const {
+  double cost = 0.0;
+  for (std::size_t f = 0; f < free_.size(); ++f) {
+    const int d = b.key.step[f] - a.key.step[f];
+    if (d != 0 && external_[f] && a.heading[f] == (d > 0 ? -1 : 1))
+      cost += settings_.w_reversal;
+  }
+  return cost;
+}
+
+// The approach to a fresh window's start: the time the slowest external axis needs from where
+// it stands, at its velocity limit.
+double PathPlanner::reposition_cost(const JointVector& standing, const JointVector& q) const {
+  double need_s = 0.0;
+  for (std::size_t f = 0; f < free_.size(); ++f) {
+    const auto i = static_cast<std::size_t>(free_[f]);
+    if (external_[f])
+      need_s = std::max(need_s, need_per_unit_[i] * std::fabs(q[free_[f]] - standing[free_[f]]));
+  }
+  return settings_.w_reposition * need_s;
 }
 
 std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf, JointVector& origin,
@@ -270,9 +298,37 @@ std::vector<LatticeKey> PathPlanner::first_layer(const PlanKeyframe& kf, JointVe
   return keys;
 }
 
+namespace {
+// The feed direction at each keyframe: towards the next one (from the one before at the end);
+// zero where the tool only turns.
+std::vector<Eigen::Vector3d> feed_directions(const std::vector<PlanKeyframe>& keyframes) {
+  std::vector<Eigen::Vector3d> feed_B(keyframes.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    const std::size_t a = k + 1 < keyframes.size() ? k : k - std::min<std::size_t>(k, 1);
+    const std::size_t b = std::min(a + 1, keyframes.size() - 1);
+    const Eigen::Vector3d d = keyframes[b].target.p_B_mm - keyframes[a].target.p_B_mm;
+    if (d.norm() > 1e-6)
+      feed_B[k] = d.normalized();
+  }
+  return feed_B;
+}
+}  // namespace
+
+LatticeDpSettings PathPlanner::dp_settings(int beam, const PlanHistory* history) const {
+  LatticeDpSettings dp;
+  dp.free_joints = static_cast<int>(free_.size());
+  dp.reach = {settings_.reach, settings_.reach, settings_.reach};
+  dp.max_moving = settings_.max_moving;
+  dp.beam = beam > 0 ? beam : settings_.beam;
+  dp.pool = settings_.pool;
+  for (std::size_t f = 0; history && f < free_.size(); ++f)
+    dp.first_heading[f] = history->heading[static_cast<std::size_t>(free_[f])];
+  return dp;
+}
+
 PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
-                                   const JointVector* start, int beam,
-                                   const PlanNodeFilter* filter) const {
+                                   const JointVector* start, int beam, const PlanNodeFilter* filter,
+                                   const PlanHistory* history) const {
   PlanWindowResult out;
   if (keyframes.empty())
     return out;
@@ -300,22 +356,13 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
   frames.reserve(keyframes.size());
   for (const PlanKeyframe& kf : keyframes)
     frames.push_back(target_frame(kf.target));
-  // The feed direction at each keyframe: towards the next one (from the one before at the end);
-  // zero where the tool only turns.
-  std::vector<Eigen::Vector3d> feed_B(keyframes.size(), Eigen::Vector3d::Zero());
-  for (std::size_t k = 0; k < keyframes.size() && settings_.normal_deflection_mm; ++k) {
-    const std::size_t a = k + 1 < keyframes.size() ? k : k - std::min<std::size_t>(k, 1);
-    const std::size_t b = std::min(a + 1, keyframes.size() - 1);
-    const Eigen::Vector3d d = keyframes[b].target.p_B_mm - keyframes[a].target.p_B_mm;
-    if (d.norm() > 1e-6)
-      feed_B[k] = d.normalized();
-  }
-  LatticeDpSettings dp;
-  dp.free_joints = static_cast<int>(free_.size());
-  dp.reach = {settings_.reach, settings_.reach, settings_.reach};
-  dp.max_moving = settings_.max_moving;
-  dp.beam = beam > 0 ? beam : settings_.beam;
-  dp.pool = settings_.pool;
+  const std::vector<Eigen::Vector3d> feed_B =
+      settings_.normal_deflection_mm
+          ? feed_directions(keyframes)
+          : std::vector<Eigen::Vector3d>(keyframes.size(), Eigen::Vector3d::Zero());
+  const LatticeDpSettings dp = dp_settings(beam, history);
+  const JointVector* standing =
+      !start && history && history->standing.size() == cell.size() ? &history->standing : nullptr;
   // Counted from the pool's threads at once.
   std::vector<std::atomic<int>> limit_hits(static_cast<std::size_t>(cell.size()));
   const auto search = [&](const std::vector<LatticeKey>& first_keys) {
@@ -325,6 +372,8 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
           int limit_joint = -1;
           bool ok = evaluate(frames[static_cast<std::size_t>(layer)], key, origin, q_near, q, cost,
                              &limit_joint);
+          if (ok && layer == 0 && standing)
+            cost += reposition_cost(*standing, q);
           const auto lu = static_cast<std::size_t>(layer);
           if (ok && filter && lu < filter->layers.size() && filter->layers[lu] && !filter->clear(q))
             ok = false;
@@ -335,7 +384,8 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
         },
         [&](int layer, const LatticeNode& a, const LatticeNode& b) {
           return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
-                           keyframes[static_cast<std::size_t>(layer)], a.q, b.q);
+                           keyframes[static_cast<std::size_t>(layer)], a.q, b.q) +
+                 reversal_cost(a, b);
         },
         [&](int layer, const LatticeNode& n) {
           const auto k = static_cast<std::size_t>(layer);
@@ -390,6 +440,16 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
     out.q.push_back(n.q);
   smooth(keyframes, r, out.q, filter);
   return out;
+}
+
+void update_heading(const std::vector<JointVector>& q, JointHeading& heading, double tol) {
+  for (std::size_t k = 1; k < q.size(); ++k) {
+    for (int i = 0; i < std::min<int>(static_cast<int>(q[k].size()), kMaxJoints); ++i) {
+      const double d = q[k][i] - q[k - 1][i];
+      if (std::fabs(d) > tol)
+        heading[static_cast<std::size_t>(i)] = d > 0.0 ? 1 : -1;
+    }
+  }
 }
 
 // The lattice quantises the free joints: a step of a lattice unit at one keyframe and none at the

@@ -132,6 +132,12 @@ PoseResult Tracker::iterate(const TcpTarget& target, JointVector q, SwitchState*
   const double L = o.rrs.characteristic_length_mm;
   PoseResult r;
   s.inv_sqrt_w = base_inv_sqrt_w_;
+  if (holding_) {
+    for (int i = 0; i < n; ++i) {
+      if (follow_hold_.test(static_cast<std::size_t>(i)))
+        s.inv_sqrt_w[i] = 0.0;
+    }
+  }
   bool clamped_any = false;
   double previous_error = std::numeric_limits<double>::infinity();
   int stalled = 0;
@@ -227,8 +233,10 @@ bool Tracker::steady(const TcpTarget& target) const {
   return history_ >= 2 && steady_continuation(before_p_, before_z_, last_p_, last_z_, target);
 }
 
-void Tracker::follow(const JointVector& q_plan, double gain, double max_motion) {
+void Tracker::follow(const JointVector& q_plan, double gain, double max_motion,
+                     std::bitset<kMaxJoints> hold) {
   following_ = true;
+  follow_hold_ = hold;
   q_plan_ = q_plan;
   follow_gain_ = gain;
   follow_max_motion_ = max_motion;
@@ -278,9 +286,19 @@ PoseResult Tracker::track(const TcpTarget& target) {
       scratch_.dq[i] = std::clamp(scratch_.dq[i], cell_->joint(i).lower, cell_->joint(i).upper);
     }
   }
-  PoseResult r = iterate(target, predict ? scratch_.dq : q_, &switch_, true,
-                         options_.max_iterations, !predict && scratch_valid_, scratch_);
+  holding_ = following_ && follow_hold_.any();
+  const JointVector start = predict ? scratch_.dq : q_;
+  PoseResult r = iterate(target, start, &switch_, true, options_.max_iterations,
+                         !predict && scratch_valid_, scratch_);
   check_jump(r);
+  if (holding_ && r.status != PoseStatus::converged) {
+    // The held axes at the plan's values leave the arm no solution here (between keyframes the
+    // plan is only interpolated): every joint may move.
+    holding_ = false;
+    r = iterate(target, start, &switch_, true, options_.max_iterations, false, scratch_);
+    check_jump(r);
+  }
+  holding_ = false;
   if (following_ && r.status != PoseStatus::converged) {
     // Near a wrist singularity the plan's interpolated posture may lie closer to another
     // branch than to the previous posture: track from the previous posture, still pulled

@@ -193,9 +193,9 @@ TEST_CASE("krl_reader: first motion values and Cartesian PTP with S and T", "[kr
   KrlProgram p =
       read_krl_program(source_path("tests/golden/pocket_arcs_krc2/POCKET_ARCS_KRC2.src"));
   REQUIRE(p.motions.size() >= 3);
-  CHECK(p.motions[0].target.values.at("A1") == Approx(0.3084));
+  CHECK(p.motions[0].target.values.at("A1") == Approx(1.1115));
   CHECK(p.motions[0].target.values.at("E1") == Approx(340.0));
-  CHECK(p.motions[0].target.values.at("E2") == Approx(6.0));
+  CHECK(p.motions[0].target.values.at("E2") == Approx(9.0));
   CHECK(p.motions[0].line == 28);
   CHECK(p.motions[0].cl_line == 9);
   // With --clearance 100 the first rapid (z 110 -> 62) is a PTP down to the plane, then a LIN.

@@ -491,3 +491,107 @@ TEST_CASE("path_plan: with stiffness data the plan lowers Caro's normal deflecti
     CHECK((T.linear().col(2) - z).norm() < 1e-9);
   }
 }
+
+TEST_CASE(
+    "lattice_dp: the heading of a node is the last step of its way in, and a reversal cost "
+    "is charged on it as an enumeration of the ways charges it",
+    "[path_plan]") {
+  // One free joint, a reversal (a step against the last nonzero step) costs `turn`. The DP picks
+  // each node's way in by cost to come, so it is a beam search over paths with their last
+  // direction; on these small lattices it must still match the enumeration within the cost of
+  // one reversal, and every node's heading must be that of its own way in.
+  const double turn = 0.7;
+  for (std::uint64_t seed = 1; seed <= 30; ++seed) {
+    Toy t;
+    t.seed = seed;
+    t.dims = 1;
+    t.R = 3;
+    t.layers = 7;
+    INFO("seed " << seed);
+    const auto reversal = [&](std::int8_t heading, int d) {
+      return d != 0 && heading == (d > 0 ? -1 : 1) ? turn : 0.0;
+    };
+    const LatticeDpResult r = lattice_dp(
+        t.layers, t.all_keys(), t.settings(0),
+        [&](int layer, const LatticeKey& k, JointVector& q, double& cost) {
+          q.setZero(1);
+          return t.node(layer, k, cost);
+        },
+        [&](int layer, const LatticeNode& a, const LatticeNode& b) {
+          return t.edge(layer, a.key, b.key) +
+                 reversal(a.heading[0], b.key.step[0] - a.key.step[0]);
+        });
+    // The enumeration of every way, with its reversals.
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<int> seq(static_cast<std::size_t>(t.layers));
+    std::function<void(int, double, std::int8_t)> rec = [&](int layer, double so_far,
+                                                            std::int8_t heading) {
+      if (layer == t.layers) {
+        best = std::min(best, so_far);
+        return;
+      }
+      for (int v = -t.R; v <= t.R; ++v) {
+        LatticeKey k;
+        k.step[0] = v;
+        double c = 0.0;
+        if (!t.node(layer, k, c))
+          continue;
+        double e = 0.0;
+        std::int8_t h = heading;
+        if (layer > 0) {
+          LatticeKey p;
+          p.step[0] = seq[static_cast<std::size_t>(layer - 1)];
+          const int d = v - p.step[0];
+          if (std::abs(d) > t.reach)
+            continue;
+          e = t.edge(layer, p, k);
+          if (!std::isfinite(e))
+            continue;
+          e += reversal(heading, d);
+          h = d > 0 ? 1 : d < 0 ? -1 : heading;
+        }
+        seq[static_cast<std::size_t>(layer)] = v;
+        rec(layer + 1, so_far + c + e, h);
+      }
+    };
+    rec(0, 0.0, 0);
+    REQUIRE(r.feasible == std::isfinite(best));
+    if (!r.feasible)
+      continue;
+    CHECK(r.cost >= best - 1e-12);
+    CHECK(r.cost <= best + turn + 1e-12);
+    // The path's headings and its cost, recomputed along it.
+    std::int8_t h = 0;
+    double sum = 0.0;
+    for (int layer = 0; layer < t.layers; ++layer) {
+      const LatticeNode& n = r.path[static_cast<std::size_t>(layer)];
+      double c = 0.0;
+      REQUIRE(t.node(layer, n.key, c));
+      sum += c;
+      if (layer > 0) {
+        const LatticeNode& p = r.path[static_cast<std::size_t>(layer - 1)];
+        const int d = n.key.step[0] - p.key.step[0];
+        sum += t.edge(layer, p.key, n.key) + reversal(h, d);
+        h = d > 0 ? 1 : d < 0 ? -1 : h;
+      }
+      CHECK(n.heading[0] == h);
+    }
+    CHECK(sum == Approx(r.cost).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("path_plan: update_heading keeps each joint's last change", "[path_plan]") {
+  JointHeading h{};
+  std::vector<JointVector> q(4, JointVector::Zero(3));
+  q[1] << 1.0, 0.0, -1.0;
+  q[2] << 1.0, 0.0, -2.0;
+  q[3] << 0.5, 0.0, -2.0;
+  update_heading(q, h);
+  CHECK(h[0] == -1);  // up, then down
+  CHECK(h[1] == 0);   // never moved
+  CHECK(h[2] == -1);  // down, then held
+  std::vector<JointVector> later(2, JointVector::Zero(3));
+  later[1] << 0.0, 1e-12, 0.0;  // below the tolerance: no change
+  update_heading(later, h);
+  CHECK(h[1] == 0);
+}

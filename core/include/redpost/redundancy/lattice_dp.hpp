@@ -9,7 +9,10 @@
 // forward: the nodes of layer k+1 are the lattice neighbours of layer k's survivors, each with its
 // cheapest parent (the cost to come), and only the `beam` cheapest survive into the next layer.
 // With an unbounded beam this is the exact minimum over every sequence of keys that keeps to the
-// reach (tested against brute force); the beam keeps the work per layer bounded.
+// reach (tested against brute force); the beam keeps the work per layer bounded. An edge cost that
+// reads the node's heading (the direction its free joints last stepped, LatticeNode::heading)
+// depends on the way in, not on the node alone: the search is then a beam search over ways with
+// their last direction (tested against an enumeration of every way).
 #pragma once
 
 #include <algorithm>
@@ -40,6 +43,11 @@ struct LatticeNode {
   double node_cost = 0.0;
   double cost = 0.0;  // cheapest cost to come, node costs of this node included
   int parent = -1;    // index in the previous layer
+  // Per free joint, the sign of its last step along the cheapest way to this node (0: it has
+  // not moved yet): an edge cost may charge a reversal (docs/redundancy.md, "Costs"). The way
+  // in is chosen by cost to come, so with such a cost the search is a beam search over paths
+  // with their last direction, no longer the exact minimum.
+  std::array<std::int8_t, kMaxFreeJoints> heading{};
 };
 
 struct LatticeDpSettings {
@@ -53,6 +61,8 @@ struct LatticeDpSettings {
   // `evaluate` callback is then called from several threads at once and must only read shared
   // state; the result is the same either way (each node written by one call).
   WorkerPool* pool = nullptr;
+  // The first layer's headings (LatticeNode::heading): how the free joints last moved before it.
+  std::array<std::int8_t, kMaxFreeJoints> first_heading{};
 };
 
 struct LatticeDpResult {
@@ -242,6 +252,7 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
       const auto evaluate_first = [&](std::size_t c) {
         LatticeNode& n = first[c];
         n.key = first_keys[c];
+        n.heading = settings.first_heading;
         valid[c] = evaluate(0, n.key, n.q, n.node_cost) && std::isfinite(n.node_cost);
       };
       result.evaluations += static_cast<long>(first_keys.size());
@@ -296,6 +307,13 @@ LatticeDpResult lattice_dp(int layers, const std::vector<LatticeKey>& first_keys
           if (cost < n.cost) {
             n.cost = cost;
             n.parent = i;
+          }
+        }
+        if (n.parent >= 0) {
+          const LatticeNode& p = before[static_cast<std::size_t>(n.parent)];
+          for (std::size_t j = 0; j < kMaxFreeJoints; ++j) {
+            const int d = n.key.step[j] - p.key.step[j];
+            n.heading[j] = d > 0 ? 1 : d < 0 ? -1 : p.heading[j];
           }
         }
       };

@@ -2,12 +2,16 @@
 // the free joints (the joints outside the 6R arm: table, track, the tool's spin) are sampled on a
 // lattice at keyframes along the path, the arm is solved in closed form for one posture, and the
 // cheapest sequence is found by dynamic programming over the layers (lattice_dp.hpp). Node cost:
-// the margin to every joint limit and the arm's conditioning 1/kappa_F. Edge cost: the axis
-// travel in seconds at each axis's speed limit, and the time the axes would need beyond the
-// time the feed gives. The tracker then follows the planned joints (Tracker::follow).
+// the arm's centring, the margin to every joint limit and the arm's conditioning 1/kappa_F (and
+// Caro's compliance under the stiff preset). Edge cost: the axis travel in seconds at each axis's
+// speed limit, the time the axes would need beyond the time the feed gives (on a rapid, the whole
+// PTP time), and a price for each turn back of an external axis (issue 47). The tracker then
+// follows the planned joints, the external axes exactly (Tracker::follow).
 #pragma once
 
+#include <array>
 #include <bitset>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -26,6 +30,7 @@ struct PlanKeyframe {
   TcpTarget target;
   double s_mm = 0.0;
   double speed_mm_s = 0.0;
+  bool rapid = false;  // on a rapid (written as a PTP)
   int cl_line = 0;
 };
 
@@ -67,6 +72,15 @@ struct PathPlanSettings {
   // accuracy (Caro 2014), so the track and the table should carry the path.
   double w_travel_arm = 3.0;
   double w_time = 20.0;  // per second the axes need beyond the time the feed gives
+  // Rapids are PTPs at this share of each axis's velocity limit (BAS (#VEL_PTP, n)): their
+  // time is the slowest axis's, all of it weighed by w_time (the time model's synchronous PTP,
+  // docs/timing.md), since it is the posture, not the CL file, that sets it.
+  double rapid_velocity_fraction = 1.0;
+  // Per turn back of an external axis (the track, the table; not the tool's spin).
+  double w_reversal = 2.0;
+  // Per second the external axes need to reach a fresh window's first keyframe from where they
+  // stand (PlanHistory::standing): the approach after a tool change.
+  double w_reposition = 5.0;
   // Compliance (Caro 2014 eq. 5.1, with stiffness data in the cell): per keyframe,
   // w_compliance * c / compliance_ref_mm, c the tool's deflection normal to the feed and the
   // tool axis under a nominal cutting load, given by normal_deflection_mm (set by the session
@@ -86,6 +100,23 @@ struct PathPlanSettings {
 };
 
 PathPlanSettings plan_preset(PlanPreset preset);
+
+// Per joint of the chain, the sign of its last change before a window (0: none known): a window
+// that turns an axis back pays the reversal.
+using JointHeading = std::array<std::int8_t, kMaxJoints>;
+
+// What a window knows of the motion before it (the session keeps it).
+struct PlanHistory {
+  JointHeading heading{};  // how each joint last moved
+  // Where the axes stand before a window without a start posture (after a tool change): its
+  // first keyframe pays for moving the external axes from there. Empty: not known (the start of
+  // a program).
+  JointVector standing;
+};
+
+// Updates `heading` over a sequence of postures (each joint's last change, ignoring changes
+// below `tol` in DH units).
+void update_heading(const std::vector<JointVector>& q, JointHeading& heading, double tol = 1e-9);
 
 // Postures the plan may not use (docs/collision.md, "The plan"): on the keyframes marked, each
 // lattice node's posture must pass `clear`, which is called from the pool's threads at once and
@@ -116,8 +147,10 @@ class PathPlanner {
   // lattice's origin, its posture kept); nullptr: the first keyframe is sampled over the free
   // joints' ranges and every posture.
   // beam > 0 overrides settings().beam (a wider search where the first found no sequence).
+  // history: how the joints moved before the window (nullptr: not known).
   PlanWindowResult plan(const std::vector<PlanKeyframe>& keyframes, const JointVector* start,
-                        int beam = 0, const PlanNodeFilter* filter = nullptr) const;
+                        int beam = 0, const PlanNodeFilter* filter = nullptr,
+                        const PlanHistory* history = nullptr) const;
 
   const std::vector<int>& free_joints() const { return free_; }
   const PathPlanSettings& settings() const { return settings_; }
@@ -130,6 +163,9 @@ class PathPlanner {
                          const Eigen::Vector3d& z_B) const;
   double edge_cost(const PlanKeyframe& from, const PlanKeyframe& to, const JointVector& q0,
                    const JointVector& q1) const;
+  double reversal_cost(const LatticeNode& a, const LatticeNode& b) const;
+  double reposition_cost(const JointVector& standing, const JointVector& q) const;
+  LatticeDpSettings dp_settings(int beam, const PlanHistory* history) const;
   // The first keyframe's lattice (every free joint over its range, `stride` steps apart).
   std::vector<LatticeKey> first_layer(const PlanKeyframe& kf, JointVector& origin,
                                       int& stride) const;
@@ -146,7 +182,8 @@ class PathPlanner {
   std::bitset<kMaxJoints> arm_;  // chain indices of the sampled joints
   std::vector<int> timed_;       // the arm's joints and those with a speed
   double max_arm_step_rad_ = 0.0;
-  std::array<double, kMaxFreeJoints> step_{};  // lattice step per free joint (DH units)
+  std::array<double, kMaxFreeJoints> step_{};    // lattice step per free joint (DH units)
+  std::array<bool, kMaxFreeJoints> external_{};  // a real axis (not the tool's spin)
 };
 
 // The posture planned at path length s_mm, interpolated linearly between keyframes.

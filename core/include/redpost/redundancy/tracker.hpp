@@ -115,7 +115,13 @@ class Tracker {
   // options' reference and gain), the conditioning switch is off (the plan has weighed the
   // conditioning), and the null-space motion per pose may reach `max_motion` (weighted norm).
   // Call before each pose; stop_following() returns to the options' goals.
-  void follow(const JointVector& q_plan, double gain, double max_motion);
+  // The joints in `hold` (the external axes) are set to the plan's values and the step leaves
+  // them there, unless the pose cannot be met so; the others are pulled towards it. The
+  // minimum-norm step would otherwise move the heavy axes a little at every pose, back and
+  // forth about the plan: corners at their low accelerations in every motion
+  // (docs/redundancy.md, "Tracking the plan").
+  void follow(const JointVector& q_plan, double gain, double max_motion,
+              std::bitset<kMaxJoints> hold = {});
   void stop_following();
   bool following() const { return following_; }
   // The planned posture followed (null when not following).
@@ -155,6 +161,8 @@ class Tracker {
   JointVector q_;
   JointVector q_ref_;
   bool following_ = false;
+  std::bitset<kMaxJoints> follow_hold_;
+  bool holding_ = false;  // follow_hold_ in force for the iterations under way
   JointVector q_plan_;
   double follow_gain_ = 0.0;
   double follow_max_motion_ = 0.0;
