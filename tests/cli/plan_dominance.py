@@ -2,7 +2,7 @@
 """Is the default plan ever beaten by holding the external axes still? (issue 47, item 3)
 
     plan_dominance.py --redpost BIN --cell CELL [--feed MMPM] [--jobs N] [--slack 0.02]
-                      [--kappa 0.3] [--options "WORDS"] FILE[::OPTIONS] ...
+                      [--kappa 0.3] [--options "WORDS"] [--small-grid] FILE[::OPTIONS] ...
 
 Converts every FILE with the default plan and with the track (E1) and the table (E2) held at a
 grid of fixed values (`--lock E1=v --lock E2=w`): the track at the default program's first-pose
@@ -91,13 +91,16 @@ def with_feed(path, feed, work):
     return out
 
 
-def grid(first):
+def grid(first, small=False):
     """(E1, E2) held values: the track at its first-pose value, +-300 mm and home (500, clamped
-    to the Andres cell's range), the table at its first-pose value and every 90 deg from it."""
+    to the Andres cell's range), the table at its first-pose value and every 90 deg from it.
+    small: the track at its first-pose value and home, the table at its first-pose value and
+    180 deg from it (the suite under the sanitizers)."""
     e1, e2 = first["e1"], first["e2"]
-    tracks = sorted({round(min(max(v, -500.0), 3000.0), 3) for v in (e1, e1 - 300.0, e1 + 300.0, 500.0)})
+    offsets = (0.0, 500.0 - e1) if small else (0.0, -300.0, 300.0, 500.0 - e1)
+    tracks = sorted({round(min(max(e1 + d, -500.0), 3000.0), 3) for d in offsets})
     tables = []
-    for k in range(4):
+    for k in ((0, 2) if small else range(4)):
         v = e2 + 90.0 * k
         while v > 720.0:
             v -= 360.0
@@ -116,7 +119,7 @@ def judge(args, spec, work, pool):
     jobs = {
         pool.submit(convert, args, cl, options + ["--lock", "E1=%g" % t, "--lock", "E2=%g" % w],
                     work, "%s_held_%g_%g" % (name, t, w)): (t, w)
-        for t, w in grid(default)
+        for t, w in grid(default, args.small_grid)
     }
     held = []
     for job in concurrent.futures.as_completed(jobs):
@@ -142,6 +145,7 @@ def main():
     p.add_argument("--slack", type=float, default=0.02)
     p.add_argument("--kappa", type=float, default=0.3)
     p.add_argument("--options", default="", help="words passed to every conversion (a preset)")
+    p.add_argument("--small-grid", action="store_true", help="4 held settings instead of 16")
     p.add_argument("files", nargs="+")
     args = p.parse_args()
     feed = "%g mm/min" % args.feed if args.feed else "own feeds"
