@@ -251,8 +251,10 @@ void print_timing(const rp_session* session) {
         t.reduced_arcs > 0 ? fmt::format(", {} of them arcs", t.reduced_arcs) : std::string());
   }
   if (t.plan_windows > 0) {
-    fmt::print("whole-path plan: {} window(s), {} tracked pose by pose, {} IK solutions\n",
-               t.plan_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
+    fmt::print(
+        "whole-path plan: {} window(s), {} with the external axes held (faster than moving "
+        "them), {} tracked pose by pose, {} IK solutions\n",
+        t.plan_windows, t.plan_still_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
   }
   if (!t.axis_speeds_known) {
     fmt::print("axis speeds: not checked (the cell gives none)\n");

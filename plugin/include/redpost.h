@@ -423,6 +423,9 @@ typedef struct rp_timing {
                                they last one interpolation cycle (they would last less) */
   long reduced_arcs;        /* of reduced_moves, arcs fitted through the points (a set with
                                CIRC; each a CIRC where it is proven, else its chords) */
+  /* Appended in 0.8 (issue 47): of plan_windows, those planned with the external axes held
+     where the window started, since that was faster than moving them (docs/redundancy.md). */
+  long plan_still_windows;
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);
 

@@ -547,6 +547,7 @@ RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing) {
     out.untimed_tool_changes = s.untimed_tool_changes;
     out.plan_windows = s.plan_windows;
     out.plan_fallback_windows = s.plan_fallback_windows;
+    out.plan_still_windows = s.plan_still_windows;
     out.plan_ik_evaluations = s.plan_ik_evaluations;
     out.interpolation_cycle_s = s.interpolation_cycle_s;
     out.cp_motions = s.cp_motions;

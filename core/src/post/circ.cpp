@@ -34,6 +34,7 @@ const ArmIk* PostSession::Impl::arm_ik_for_active(std::string& why) {
     // earlier tool's cell would otherwise find the planner of that cell on a freed IK).
     planner.reset();
     planner_held.reset();
+    planner_still.reset();
     planner_cell = nullptr;
     arm_ik.reset();
     arm_ik_cell = active_cell;

@@ -10,8 +10,12 @@
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
+#include "redpost/kinematics/conditioning.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
+#include "redpost/kinematics/jacobian.hpp"
 #include "redpost/machining/elastostatic.hpp"
 #include "redpost/machining/quality.hpp"
+#include "redpost/post/plan_time.hpp"
 
 namespace redpost {
 
@@ -54,6 +58,9 @@ struct KeyframeWalk {
   const PostOptions& o;
   double spacing;
   std::vector<PlanKeyframe> kf;
+  // Where each motion (each of an arc's chords) ends, as the time model's points
+  // (estimate_plan_time).
+  std::vector<PlanKeyframe> ends;
   Eigen::Vector3d p_cl, z_cl;  // the walker's CL point and tool axis (CL frame)
   double s = 0.0;              // path length in {B} at p_cl
   double next_kf_s = 0.0;      // where the next keyframe goes
@@ -100,6 +107,7 @@ struct KeyframeWalk {
     s += length;
     p_cl = p1;
     z_cl = z1n;
+    ends.push_back(at(p_cl, z_cl, s, speed, line));
   }
 
   // The path of one motion call; its end's s.
@@ -233,8 +241,123 @@ const PathPlanner& PostSession::Impl::planner_for_active(int cl_line) {
     }
     if (any)
       planner_held = std::make_unique<PathPlanner>(*active_cell, *ik, held);
+    // Every external axis the user left free held where the window starts: the alternative
+    // each window's plan is timed against (choose_still).
+    planner_still.reset();
+    PathPlanSettings still = settings;
+    if (still.lock_value.size() != active_cell->size())
+      still.lock_value =
+          JointVector::Constant(active_cell->size(), std::numeric_limits<double>::quiet_NaN());
+    const std::bitset<kMaxJoints> external = external_axes(*active_cell);
+    any = false;
+    for (int i = 0; i < active_cell->size(); ++i) {
+      const auto iu = static_cast<std::size_t>(i);
+      if (!external.test(iu) || still.locked.test(iu))
+        continue;
+      still.locked.set(iu);
+      still.lock_value[i] = std::numeric_limits<double>::quiet_NaN();
+      any = true;
+    }
+    if (any && settings.hold_gain >= 0.0)
+      planner_still = std::make_unique<PathPlanner>(*active_cell, *ik, still);
   }
   return *planner;
+}
+
+namespace {
+
+// Whether the plan moves any external axis over its keyframes up to until_s.
+bool moves_external(const Cell& cell, const std::vector<PlanKeyframe>& kf,
+                    const std::vector<JointVector>& q, double until_s) {
+  const std::bitset<kMaxJoints> external = external_axes(cell);
+  for (std::size_t k = 1; k < q.size() && kf[k - 1].s_mm <= until_s; ++k) {
+    for (int i = 0; i < cell.size(); ++i) {
+      if (external.test(static_cast<std::size_t>(i)) && std::fabs(q[k][i] - q[0][i]) > 1e-4)
+        return true;
+    }
+  }
+  return false;
+}
+
+// The lowest 1/kappa_F of the arm over the postures (1 where the cell declares no
+// conditioning).
+double lowest_inverse_condition(const Cell& cell, const std::vector<JointVector>& q) {
+  if (!cell.conditioning.declared())
+    return 1.0;
+  KinematicsData data;
+  Jacobian J;
+  double lowest = 1.0;
+  for (const JointVector& qk : q) {
+    forward_kinematics(cell, qk, data, false);
+    tcp_jacobian(cell, data, J);
+    lowest = std::min(lowest, arm_inverse_condition(cell, J));
+  }
+  return lowest;
+}
+
+}  // namespace
+
+// Issue 47 (docs/redundancy.md, "Held or moved"): a window's plan moves the track and the table
+// only where holding them is not faster. The plan with every external axis held where the window
+// starts is the alternative; both are timed by the time model over the window's CL points up to
+// until_s (estimate_plan_time: what the lattice's velocity terms do not see, the corners a slow
+// axis makes at the path's corners), and the held plan is taken where it is faster by
+// hold_gain, keeps the plan's room to the bodies, and keeps the arm's conditioning above the
+// threshold or above the moving plan's.
+bool PostSession::Impl::choose_still(const std::vector<PlanKeyframe>& kf,
+                                     const std::vector<PlanKeyframe>& ends, double until_s,
+                                     const JointVector* start, const PlanHistory& history,
+                                     PlanWindowResult& r, PlanBatch& batch) {
+  if (!planner_still || !r.feasible || !moves_external(*active_cell, kf, r.q, until_s))
+    return false;
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  PlanChoice choice{kf.front().cl_line, kf.back().cl_line, nan, nan, false};
+  for (const PlanKeyframe& k : kf) {
+    if (k.s_mm <= until_s + 1e-9)
+      choice.last_cl_line = k.cl_line;
+  }
+  const Cell& c = *active_cell;
+  // The CL points are the motions' ends here; under the point reduction the program merges the
+  // dense ones (0.5 mm apart on a raster: shorter than one interpolation cycle at 10 m/min, and
+  // too short for the look-ahead to stop in) into motions long enough for both.
+  ControllerTiming controller = controller_timing;
+  if (reducer.enabled()) {
+    controller.interpolation_cycle_s = 0.0;
+    controller.lookahead_motions = -1;
+  }
+  PlanWindowResult held =
+      planner_still->plan(kf, start ? start : &r.q.front(), 0, nullptr, &history);
+  batch.ik_evaluations += held.ik_evaluations;
+  // Held axes must keep the room the plan keeps (avoid_in_plan) and its conditioning: where
+  // they do not, the axes move as planned.
+  const double threshold = planner_still->settings().condition_threshold;
+  double kappa_held = 0.0;
+  if (held.feasible &&
+      unclear_keyframes(held.q, o.collision.margin_mm + 0.05 * o.collision.plan_extra_mm).empty() &&
+      ((kappa_held = lowest_inverse_condition(c, held.q)) >= threshold ||
+       kappa_held >= lowest_inverse_condition(c, r.q))) {
+    const PlanTimeEstimate still =
+        estimate_plan_time(c, *planner_still, controller, apo_mm, kf, held.q, ends, until_s);
+    if (still.feasible)
+      choice.still_s = still.time_s;
+  }
+  // The moving plan is timed where there is a choice to make (or somebody asks).
+  if (!std::isnan(choice.still_s) || o.on_plan_choice) {
+    const PlanTimeEstimate moving =
+        estimate_plan_time(c, *planner, controller, apo_mm, kf, r.q, ends, until_s);
+    if (moving.feasible)
+      choice.moving_s = moving.time_s;
+  }
+  const double gain = planner->settings().hold_gain;
+  choice.still = !std::isnan(choice.still_s) &&
+                 (std::isnan(choice.moving_s) || choice.still_s < (1.0 - gain) * choice.moving_s);
+  if (o.on_plan_choice)
+    o.on_plan_choice(choice);
+  if (!choice.still)
+    return false;
+  r = std::move(held);
+  ++batch.still_windows;
+  return true;
 }
 
 void PostSession::Impl::follow_plan(double s_mm) {
@@ -283,6 +406,7 @@ void PostSession::Impl::apply_plan(const PlanBatch& batch) {
   summary.plan_windows += batch.windows;
   summary.plan_ik_evaluations += batch.ik_evaluations;
   summary.plan_fallback_windows += batch.fallback_windows;
+  summary.plan_still_windows += batch.still_windows;
   for (const std::string& w : batch.front_warnings)
     summary.warnings.push_back(w);
   for (const std::string& w : batch.warnings)
@@ -414,7 +538,7 @@ bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
   if (stage && (c.sync || from_tracker))
     stage->drain();
   cursor.sync = false;
-  KeyframeWalk w{o, ps.keyframe_spacing_mm, {}, {}, {}, 0.0, 0.0, 0.0, c.next_rapid};
+  KeyframeWalk w{o, ps.keyframe_spacing_mm, {}, {}, {}, {}, 0.0, 0.0, 0.0, c.next_rapid};
   w.feed_mm_s =
       (std::isnan(c.feed_mm_per_min) ? o.default_feed_mm_per_min : c.feed_mm_per_min) / 60.0;
   size_batch(batch, deferred.size());
@@ -480,11 +604,18 @@ bool PostSession::Impl::plan_window(bool flush, PlanBatch& batch) {
     fall_back(w.kf, r.dead_keyframe, end, o.source_name, deferred, batch);
     return true;
   }
-  avoid_in_plan(w.kf, r, pl, fresh ? nullptr : &start_q, &history, batch);
-
   // Commit 85 % of the window (all of it at the end or before a tool change), and
   // at least up to the end of the first motion.
   const double commit_s = (flush || barrier) ? w.s : start_s + 0.85 * o.plan_horizon_mm;
+  const bool still = choose_still(w.kf, w.ends, std::min(commit_s, w.s), fresh ? nullptr : &start_q,
+                                  history, r, batch);
+  const JointVector plan_start = r.q.front();
+  avoid_in_plan(w.kf, r, still ? *planner_still : pl,
+                !fresh  ? &start_q
+                : still ? &plan_start
+                        : nullptr,
+                &history, batch);
+
   const std::size_t n = commit_window(w.kf, r.q, batch.end_s, end, commit_s, fresh, batch);
   release(deferred, n, batch);
   return true;

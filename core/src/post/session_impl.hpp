@@ -93,6 +93,7 @@ struct PlanBatch {
   std::vector<std::string> front_warnings;  // the reading's since the batch before, first
   std::vector<std::string> warnings;        // the plan's
   long windows = 0, ik_evaluations = 0, fallback_windows = 0;  // for the summary
+  long still_windows = 0;  // of them, with the external axes held (choose_still)
 };
 
 // The cell's external axes that move metal (E1..E6 but the tool's virtual spin).
@@ -181,6 +182,8 @@ struct PostSession::Impl {
   bool rate_vel = false;  // $VEL.CP lowered to the motion rate (timing.cpp, timed_cp)
   double orientation_velocity_rad_s = 0.0;
   double ptp_velocity_fraction = 1.0, ptp_acceleration_fraction = 1.0;
+  // The template set's controller (start_timing): the plan times its candidates with it too.
+  ControllerTiming controller_timing;
   // The postures tracked along the last track_line(), when it took several steps: written one
   // by one where the controller's straight line between its ends cannot be proven.
   std::vector<JointVector> line_steps;
@@ -239,6 +242,9 @@ struct PostSession::Impl {
   // The same plan with the cell's rotary external axes (the table) held at home: the first
   // window after an approach is planned both ways and the cheaper kept (plan.cpp).
   std::unique_ptr<PathPlanner> planner_held;
+  // Every free external axis held where a window starts (choose_still); null when the cell has
+  // none free or the preset never holds them.
+  std::unique_ptr<PathPlanner> planner_still;
   const Cell* planner_cell = nullptr;
   std::vector<PlanKeyframe> plan_kf;
   std::vector<JointVector> plan_q;
@@ -430,6 +436,9 @@ struct PostSession::Impl {
   // What the plan does before the batch's calls are tracked (on the tracking side).
   void apply_plan(const PlanBatch& batch);
   const PathPlanner& planner_for_active(int cl_line);
+  bool choose_still(const std::vector<PlanKeyframe>& kf, const std::vector<PlanKeyframe>& ends,
+                    double until_s, const JointVector* start, const PlanHistory& history,
+                    PlanWindowResult& r, PlanBatch& batch);
 
   // The tracking side's thread under PostOptions::plan_threads >= 2 (session.cpp, pump); the
   // last member, so that its thread stops before anything it uses goes.

@@ -15,6 +15,7 @@
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/tool_axis.hpp"
 #include "redpost/krl/motion_rate.hpp"
+#include "redpost/timing/timed_motion.hpp"
 
 namespace redpost {
 
@@ -47,11 +48,6 @@ double axis_off_great_circle(const Isometry& T0, const Isometry& T1) {
   return worst;
 }
 
-double rotation_angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  const double c = std::clamp(0.5 * ((a.transpose() * b).trace() - 1.0), -1.0, 1.0);
-  return std::acos(c);
-}
-
 std::string axis_words(const Cell& cell, int joint) {
   if (joint < 0)
     return "an axis";
@@ -72,6 +68,7 @@ void PostSession::Impl::start_timing(const KrlTemplateSet& templates) {
   c.lookahead_motions = templates.spline
                             ? std::max(templates.max_spline_points, templates.timing.advance)
                             : templates.timing.advance;
+  controller_timing = c;
   orientation_velocity_rad_s = c.orientation_velocity_rad_s;
   ptp_velocity_fraction = c.ptp_velocity_fraction;
   ptp_acceleration_fraction = c.ptp_acceleration_fraction;
@@ -107,34 +104,12 @@ void PostSession::Impl::remember_written(const JointVector& q, const Isometry& T
 TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T0,
                                         const JointVector& q1, const Isometry& T1, double length_mm,
                                         int cl_line, const JointVector* replay_peak) {
-  TimedMotion t;
-  t.kind = TimedMotion::Kind::cp;
+  TimedMotion t = cp_motion(cell, q0, T0, q1, T1, length_mm, asked_m_per_s * 1000.0,
+                            orientation_velocity_rad_s, apo_mm);
   t.cl_line = cl_line;
-  t.asked_mm_s = asked_m_per_s * 1000.0;
   t.at_feed = asked_is_feed;
-  const double turn = rotation_angle(T0.linear(), T1.linear());
-  // The path parameter: the TCP's path, or for a motion that (nearly) only turns, the turn at
-  // the orientation speed measured as mm at the asked speed.
-  const double turn_mm = turn * t.asked_mm_s / orientation_velocity_rad_s;
-  t.length_mm = length_mm > 1e-6 ? length_mm : turn_mm;
-  t.tcp_length_mm = length_mm;
-  if (length_mm > 1e-6 && turn > 0.0)
-    t.orientation_cap_mm_s = length_mm * orientation_velocity_rad_s / turn;
-  const int n = cell.size();
-  t.chord_rate.setZero(n);
-  t.peak_rate.setZero(n);
-  if (t.length_mm > 0.0) {
-    t.chord_rate = (q1 - q0) / t.length_mm;
-    t.peak_rate = t.chord_rate.cwiseAbs();
-    if (replay_peak)
-      t.peak_rate = t.peak_rate.cwiseMax(*replay_peak);
-  }
-  if (length_mm > 1e-6)
-    t.tangent = (T1.translation() - T0.translation()) / length_mm;
-  t.exit_tangent = t.tangent;
-  t.entry_rate = t.chord_rate;
-  t.exit_rate = t.chord_rate;
-  t.blend_mm = apo_mm;
+  if (t.length_mm > 0.0 && replay_peak)
+    t.peak_rate = t.peak_rate.cwiseMax(*replay_peak);
   // $VEL.CP: the asked speed, or lower where an axis would exceed its velocity limit.
   int joint = -1;
   const double cap = PathTimer::velocity_cap(cell, t.peak_rate, &joint);
@@ -166,29 +141,14 @@ TimedMotion PostSession::Impl::timed_cp(const JointVector& q0, const Isometry& T
 
 // The synchronous PTP from the last written posture to q1 at the set's share of the limits.
 TimedMotion PostSession::Impl::timed_ptp(const JointVector& q1, int cl_line) {
-  TimedMotion t;
-  t.kind = TimedMotion::Kind::ptp;
-  t.cl_line = cl_line;
-  t.asked_mm_s = std::numeric_limits<double>::quiet_NaN();
-  t.command_mm_s = std::numeric_limits<double>::quiet_NaN();
-  const int n = cell.size();
-  t.chord_rate.setZero(n);
-  t.peak_rate.setZero(n);
-  if (!have_written)
-    return t;  // from wherever the robot stands: not timed (docs/timing.md)
-  t.chord_rate = q1 - q_written;
-  for (int i = 0; i < n; ++i) {
-    const Joint& j = cell.joint(i);
-    if (!j.has_speed())
-      continue;
-    const double s =
-        PathTimer::stop_to_stop_s(t.chord_rate[i], ptp_velocity_fraction * j.max_velocity,
-                                  ptp_acceleration_fraction * j.max_acceleration);
-    if (s > t.ptp_time_s) {
-      t.ptp_time_s = s;
-      t.ptp_joint = i;
-    }
+  if (!have_written) {
+    // From wherever the robot stands: not timed (docs/timing.md).
+    TimedMotion t = synchronous_ptp(cell, q1, q1, ControllerTiming{});
+    t.cl_line = cl_line;
+    return t;
   }
+  TimedMotion t = synchronous_ptp(cell, q_written, q1, controller_timing);
+  t.cl_line = cl_line;
   return t;
 }
 

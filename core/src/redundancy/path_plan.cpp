@@ -65,6 +65,9 @@ PathPlanSettings plan_preset(PlanPreset preset) {
       s.condition_threshold = 0.4;
       s.w_travel = 0.3;
       s.w_travel_arm = 1.0;
+      // Its axes move for the compliance, which the time model does not see: never held for
+      // time alone.
+      s.hold_gain = -1.0;
       break;
     case PlanPreset::fast:
       // Time first: every second the axes would add weighs more. The arm carries the path and
@@ -497,6 +500,24 @@ void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const Latti
     if (near)
       q[ku] = sol.q[mu];
   }
+}
+
+bool PathPlanner::solve_at(const TcpTarget& target, const JointVector& q_plan,
+                           JointVector& q) const {
+  const int posture = status_turn(*cell_, ik_->status_model(), q_plan).status;
+  // No round trip: the closed form is exact, and what the estimate is for (the session's choice
+  // between candidate plans) is followed by the tracker, which checks every pose.
+  ArmBefore before;
+  ArmAfter after;
+  ik_->before_arm(q_plan, before);
+  ik_->after_arm(q_plan, after);
+  const ArmIkSolutions sol =
+      ik_->solve(target_frame(target), before, after, q_plan, &q_plan, posture, RoundTrip::skip);
+  const auto mu = static_cast<std::size_t>(posture);
+  if (!sol.valid[mu])
+    return false;
+  q = sol.q[mu];
+  return true;
 }
 
 JointVector interpolate_plan(const std::vector<PlanKeyframe>& keyframes,

@@ -50,6 +50,16 @@ struct MotionDeflection {
 
 // One motion as it is written, for a host that watches the run (the report of `redpost convert`).
 // The pointers are valid during the call only; nothing is allocated to make a sample.
+// One window's choice between the plan that moves the external axes and the one that holds
+// them where the window starts (PostOptions::on_plan_choice): the time model's seconds for each
+// over the window's committed path (post/plan_time.hpp), NaN where that plan has none (it is
+// not feasible, or it leaves the room or the conditioning the plan keeps).
+struct PlanChoice {
+  int first_cl_line = 0, last_cl_line = 0;
+  double moving_s = 0.0, still_s = 0.0;
+  bool still = false;  // the held plan was taken
+};
+
 struct MotionSample {
   long index = 0;  // 1, 2, ... in the order written (the joints CSV's "pose" column)
   KrlMotionKind kind = KrlMotionKind::lin;
@@ -182,6 +192,10 @@ struct PostOptions {
   // Sees every written motion (see MotionSample), in order; under plan_threads >= 2 on the
   // session's tracking thread (never two calls at once). Empty: none, at no cost.
   MotionObserver on_motion;
+  // Sees each window where the plan moved an external axis and the plan holding them was timed
+  // against it (PathPlanSettings::hold_gain, docs/redundancy.md "Held or moved"), on the thread
+  // that plans (under plan_threads >= 2 not the caller's). Empty: none.
+  std::function<void(const PlanChoice&)> on_plan_choice;
 };
 
 struct JointRange {
@@ -262,7 +276,10 @@ struct PostSummary {
   // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
   long plan_windows = 0;           // windows planned
   long plan_fallback_windows = 0;  // of them, tracked pose by pose (no sequence on the lattice)
-  long plan_ik_evaluations = 0;    // lattice nodes solved (closed-form IK of one posture each)
+  // ... with the external axes held where the window started, since that was faster than
+  // moving them (PathPlanSettings::hold_gain).
+  long plan_still_windows = 0;
+  long plan_ik_evaluations = 0;  // lattice nodes solved (closed-form IK of one posture each)
 
   // Collisions (PostOptions::collision; docs/collision.md): the bodies and the pairs checked, and
   // the least clearance along the program (a lower bound, proven between the poses), its CL

@@ -78,6 +78,13 @@ struct PathPlanSettings {
   double rapid_velocity_fraction = 1.0;
   // Per turn back of an external axis (the track, the table; not the tool's spin).
   double w_reversal = 2.0;
+  // A window's plan holds the external axes where the window starts when the time model finds
+  // that this much faster (a fraction) than the plan that moves them (the session's choice,
+  // post/plan_time.hpp; issue 47). Negative: no such choice. Where the two are as fast, the
+  // moving plan is kept: held, the arm alone carries the path, and its orientation changes
+  // along the lines split the motions the point reduction would merge (the 1M raster: 2.5 times
+  // the motions, for the same cycle time).
+  double hold_gain = 0.01;
   // Per second the external axes need to reach a fresh window's first keyframe from where they
   // stand (PlanHistory::standing): the approach after a tool change.
   double w_reposition = 5.0;
@@ -151,6 +158,11 @@ class PathPlanner {
   PlanWindowResult plan(const std::vector<PlanKeyframe>& keyframes, const JointVector* start,
                         int beam = 0, const PlanNodeFilter* filter = nullptr,
                         const PlanHistory* history = nullptr) const;
+
+  // The posture at `target` for the free joints `q_plan` gives (the plan interpolated there, as
+  // the tracker follows it): the arm in closed form, in q_plan's posture, nearest to it. False
+  // where that posture has no solution within the limits.
+  bool solve_at(const TcpTarget& target, const JointVector& q_plan, JointVector& q) const;
 
   const std::vector<int>& free_joints() const { return free_; }
   const PathPlanSettings& settings() const { return settings_; }

@@ -1,0 +1,180 @@
+// Issue 47, item 2: the plan ranks its candidates as the time model does. On seeded random
+// paths short enough for one window, the session times the plan that moves the external axes
+// and the plan that holds them (PostOptions::on_plan_choice, estimate_plan_time). Each
+// candidate is then converted on its own (the moving one with the choice off, the held one with
+// the track and the table locked where the moving one starts), and the time model's cycle time
+// of each written program is the reference: where the two programs differ by more than 2 %, the
+// estimates must rank them the same way, and the program the session wrote with the choice on
+// must be the one it chose.
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "catch_compat.hpp"
+#include "redpost/cl/reader.hpp"
+#include "redpost/krl/template.hpp"
+#include "redpost/post/session.hpp"
+#include "temp_dir.hpp"
+#include "test_support.hpp"
+
+using namespace redpost;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string goto_line(const Eigen::Vector3d& p, const Eigen::Vector3d& z) {
+  return fmt::format("GOTO/{:.4f},{:.4f},{:.4f},{:.7f},{:.7f},{:.7f}\n", p.x(), p.y(), p.z(), z.x(),
+                     z.y(), z.z());
+}
+
+// A raster or a straight pass on the Andres cell's table, as tests/cli/make_path_apt.py makes
+// them, sized for one plan window (at most 2000 mm of cut).
+std::string random_path(std::mt19937& rng, bool raster) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const double angle = deg_to_rad(raster ? 90.0 * u01(rng) : -60.0 + 120.0 * u01(rng));
+  const double tilt = deg_to_rad(25.0 * u01(rng));
+  const Eigen::Vector3d dir(std::cos(angle), std::sin(angle), 0.0), side(-dir.y(), dir.x(), 0.0);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> points;
+  if (raster) {
+    const double width = 40.0 + 60.0 * u01(rng), spacing = 2.0 + 6.0 * u01(rng);
+    const int lines =
+        std::min(static_cast<int>(width / spacing) + 1, static_cast<int>(2000.0 / width));
+    const int per_line = static_cast<int>(width / 0.5) + 1;
+    const Eigen::Vector3d centre(-100.0, -450.0, 60.0);
+    for (int l = 0; l < lines; ++l) {
+      for (int k = 0; k < per_line; ++k) {
+        const double a = -0.5 * width + (l % 2 == 0 ? k : per_line - 1 - k) * 0.5;
+        const double b = -0.5 * width + l * spacing;
+        // The tool tilts smoothly over the square, as the benchmark raster's does.
+        const double ta = tilt * std::sin(kPi * a / width), tb = tilt * std::sin(kPi * b / width);
+        const Eigen::Vector3d z = (std::sin(ta) * dir - std::sin(tb) * side +
+                                   std::cos(ta) * std::cos(tb) * Eigen::Vector3d::UnitZ())
+                                      .normalized();
+        points.emplace_back(centre + a * dir + b * side, z);
+      }
+    }
+  } else {
+    const double length = 300.0 + 400.0 * u01(rng);
+    const Eigen::Vector3d along(std::sin(angle), -std::cos(angle), 0.0);
+    const Eigen::Vector3d across(-along.y(), along.x(), 0.0);
+    const Eigen::Vector3d z = std::sin(tilt) * across + std::cos(tilt) * Eigen::Vector3d::UnitZ();
+    for (double s = 0.0; s <= length + 1e-9; s += 2.0)
+      points.emplace_back(Eigen::Vector3d(-100.0, -300.0, 60.0) + s * along, z);
+  }
+  std::string apt = "PARTNO/RANK\nUNITS/MM\nMULTAX/ON\nCUTTER/10.,5.\nLOADTL/1\n";
+  apt += "SPINDL/15000,RPM,CLW\nRAPID\n";
+  apt += goto_line(points.front().first + 80.0 * points.front().second, points.front().second);
+  apt += "FEDRAT/MMPM,10000\n";
+  for (const auto& [p, z] : points)
+    apt += goto_line(p, z);
+  apt += "RAPID\n" +
+         goto_line(points.back().first + Eigen::Vector3d(0.0, 0.0, 80.0), Eigen::Vector3d::UnitZ());
+  return apt + "FINI\n";
+}
+
+struct Run {
+  PostSummary summary;
+  std::vector<PlanChoice> choices;
+  JointVector first_cut;  // the joints at the first motion (the plan's first keyframe)
+};
+
+Run convert(const Cell& cell, const KrlTemplateSet& krl, const std::string& apt, PostOptions o,
+            const std::string& tag) {
+  const fs::path dir = fs::temp_directory_path() / ("redpost_test_plan_choice_" + tag);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  test::remove_at_exit(dir);
+  o.program.name = "P";
+  o.program.output_dir = dir.string();
+  o.source_name = "rank.apt";
+  o.plan = RedundancyPlan::global;
+  // The point reduction as the command line's default (--fit-tol 0.01, --fit-ang-tol 0.1).
+  o.reduction.tolerance_mm = 0.01;
+  o.reduction.axis_tolerance_deg = 0.1;
+  Run run;
+  o.on_plan_choice = [&run](const PlanChoice& c) { run.choices.push_back(c); };
+  o.on_motion = [&run](const MotionSample& m) {
+    if (run.first_cut.size() == 0)
+      run.first_cut = *m.q;
+  };
+  std::istringstream in(apt);
+  ClReader reader(in, o.source_name);
+  PostSession session(cell, krl, o);
+  ClEvent e;
+  while (reader.next(e))
+    session.handle(e);
+  run.summary = session.finish();
+  return run;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "the plan's time estimates rank moving and held axes as the written programs' cycle "
+    "times do",
+    "[post][plan][issue47]") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet krl = load_krl_templates(test::source_path("definitions/krl/krc4_lin.xml"));
+  std::mt19937 rng(47);
+  int compared = 0, ranked = 0;
+  double worst_error = 0.0;
+  std::string log;
+  for (int n = 0; n < 16; ++n) {
+    const bool raster = n % 2 == 0;
+    const std::string apt = random_path(rng, raster);
+    INFO("path " << n << (raster ? " (raster)" : " (pass)"));
+    PostOptions o;
+    const Run chosen = convert(cell, krl, apt, o, "chosen");
+    // One window, one choice with both candidates timed: else nothing to compare here.
+    if (chosen.summary.plan_windows != 1 || chosen.choices.size() != 1 ||
+        std::isnan(chosen.choices[0].still_s) || std::isnan(chosen.choices[0].moving_s))
+      continue;
+    const PlanChoice& c = chosen.choices[0];
+    PostOptions free = o;
+    free.plan_settings.hold_gain = -1.0;
+    const Run moving = convert(cell, krl, apt, free, "moving");
+    REQUIRE(moving.first_cut.size() == cell.size());
+    PostOptions locked = o;
+    locked.plan_settings.lock_value =
+        JointVector::Constant(cell.size(), std::numeric_limits<double>::quiet_NaN());
+    for (int i = 0; i < cell.size(); ++i) {
+      const Joint& j = cell.joint(i);
+      if (j.axis.kind == AxisKind::external && j.type != JointType::virtual_spin) {
+        locked.plan_settings.locked.set(static_cast<std::size_t>(i));
+        locked.plan_settings.lock_value[i] = moving.first_cut[i];
+      }
+    }
+    const Run held = convert(cell, krl, apt, locked, "held");
+    const double t_moving = moving.summary.cycle_time_s, t_held = held.summary.cycle_time_s;
+    ++compared;
+    log += fmt::format(
+               "path {}: estimates moving {:.2f} s, held {:.2f} s; programs "
+               "moving {:.2f} s, held {:.2f} s; chose {}",
+               n, c.moving_s, c.still_s, t_moving, t_held, c.still ? "held" : "moving") +
+           "\n";
+    // The estimates time the cut of the window; the programs add the approach and the retract
+    // (the same in both): their difference is what is compared.
+    const double d_program = t_moving - t_held, d_estimate = c.moving_s - c.still_s;
+    if (std::fabs(d_program) > 0.02 * std::min(t_moving, t_held)) {
+      ++ranked;
+      CHECK((d_program > 0.0) == (d_estimate > 0.0));
+    }
+    worst_error =
+        std::max(worst_error, std::fabs(d_estimate - d_program) / std::min(t_moving, t_held));
+    // The program written with the choice on is the candidate chosen.
+    const double t_chosen = c.still ? t_held : t_moving;
+    CHECK(chosen.summary.cycle_time_s == Approx(t_chosen).epsilon(0.005));
+  }
+  INFO(log);
+  INFO("compared " << compared << ", ranked " << ranked << ", worst error of the "
+                   << "difference " << worst_error);
+  CHECK(compared >= 6);
+  CHECK(ranked >= 3);
+  // The estimates' difference is the programs' within 7.5 % of the cycle time (6.1 % measured
+  // on these paths: the estimate times every CL point, the program the merged motions, and
+  // where the axes move the merged motions are more and shorter).
+  CHECK(worst_error < 0.075);
+}
