@@ -19,7 +19,6 @@ struct CandidateMotions {
   const ControllerTiming& controller;
   double blend_mm;
   PathTimer& timer;
-  PlanTimeEstimate& out;
   KinematicsData fk;
   JointVector q_prev;
   Isometry T_prev = Isometry::Identity();
@@ -29,14 +28,6 @@ struct CandidateMotions {
     q_prev = q0;
     forward_kinematics(cell, q_prev, fk, false);
     T_prev = fk.T_B_tcp;
-  }
-
-  void travel_to(const JointVector& q) {
-    for (int i = 0; i < cell.size(); ++i) {
-      const Joint& j = cell.joint(i);
-      if (j.axis.kind == AxisKind::external && j.type != JointType::virtual_spin && j.has_speed())
-        out.external_travel_s += std::fabs(q[i] - q_prev[i]) / j.max_velocity;
-    }
   }
 
   void lin(const JointVector& q, double speed_mm_s, int cl_line) {
@@ -60,9 +51,7 @@ struct CandidateMotions {
     t.index = ++index;
     t.cl_line = cl_line;
     timer.push(t);
-    travel_to(q);
     q_prev = q;
-    ++out.motions;
   }
 };
 
@@ -77,7 +66,7 @@ PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner
   if (keyframes.empty() || q.size() != keyframes.size())
     return out;
   PathTimer timer(cell, controller, [](const TimedMotion&, const MotionTiming&) {});
-  CandidateMotions m{cell, controller, blend_mm, timer, out, {}, {}, Isometry::Identity(), 0};
+  CandidateMotions m{cell, controller, blend_mm, timer, {}, {}, Isometry::Identity(), 0};
   m.start(q.front());
   double s_prev = keyframes.front().s_mm;
   std::size_t k = 1;  // the next keyframe after s_prev

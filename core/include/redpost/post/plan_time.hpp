@@ -22,9 +22,6 @@ struct PlanTimeEstimate {
   bool feasible = false;   // every point solved in the plan's posture
   int failed_cl_line = 0;  // the first point that was not
   double time_s = 0.0;     // the time model's, from the window's first keyframe to `until_s`
-  // Every external axis's travel in seconds at its velocity limit, summed.
-  double external_travel_s = 0.0;
-  int motions = 0;  // timed
 };
 
 // The window's plan (keyframes and their postures, keyframes[0] the committed start) timed over
