@@ -167,6 +167,9 @@ RP_API rp_status rp_open(const rp_options* options, rp_session** session);
  * session counts events itself; hosts that read a file set the file's line. */
 RP_API rp_status rp_set_line(rp_session* session, int line);
 
+/* A tool change to tool `number` of the cell's tool table. diameter_mm and length_mm are the CL
+ * file's (the tool's collision bodies where the table gives none): the diameter 0 to 500 mm or
+ * NaN for not given, the length 0 to 2000 mm; anything else fails the session. */
 RP_API rp_status rp_tool_change(rp_session* session, int number, const char* name,
                                 double diameter_mm, double length_mm);
 RP_API rp_status rp_spindle(rp_session* session, double rpm, rp_spindle_direction direction);

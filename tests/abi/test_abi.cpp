@@ -406,6 +406,13 @@ TEST_CASE("abi: a coordinate beyond 1e7 mm and a tool of 1e300 mm are refused at
     CHECK(rp_tool_change(s, 1, "LONG", 10, 1e300) == RP_ERR_BAD_INPUT);
     CHECK(contains(rp_last_error(s), "a tool length is a number of mm from 0 to 2000"));
     rp_free(s);
+    // A diameter too (the fuzzer's: a cutter of 1e300 mm kept the clearance check halving).
+    for (const double d : {1e300, -1.0, 501.0, std::numeric_limits<double>::infinity()}) {
+      REQUIRE(rp_open(&o, &s) == RP_OK);
+      CHECK(rp_tool_change(s, 1, "WIDE", d, 3.0) == RP_ERR_BAD_INPUT);
+      CHECK(contains(rp_last_error(s), "a tool diameter is a number of mm from 0 to 500"));
+      rp_free(s);
+    }
     CHECK(fs::is_empty(dir));
   }
 }

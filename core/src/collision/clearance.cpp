@@ -88,6 +88,8 @@ void sampled(MotionClearance& out, double d, int pair, const Proximity& where) {
 }
 
 void note(MotionClearance& out, double d, int pair, double s, const Proximity& where) {
+  if (std::isnan(d))
+    d = 0.0;  // no distance (a body of absurd size): as bad as touching
   if (d < out.least_mm) {
     out.least_mm = d;
     out.pair = pair;
@@ -113,7 +115,7 @@ void ClearanceMonitor::compute(Node& n, bool fresh, MotionClearance& out, double
     n.lb[p] = d;
     note(out, d, static_cast<int>(p), s, where);
     sampled(out, d, static_cast<int>(p), where);
-    if (d < settings_.margin_mm)
+    if (!(d >= settings_.margin_mm))
       out.clear = false;
   }
 }
@@ -151,7 +153,7 @@ void ClearanceMonitor::bound(const Node& a, const Node& b, const Node* mid, doub
 // bounds known for them): halved at its middle until each is proven or found too close.
 void ClearanceMonitor::interval(const JointPath& path, int depth, const Node& a, const Node& b,
                                 const std::vector<int>& pairs, MotionClearance& out) {
-  if (depth >= settings_.max_depth) {
+  if (depth >= settings_.max_depth || ++pieces_ > settings_.max_pieces) {
     for (int p : pairs) {
       const auto pu = static_cast<std::size_t>(p);
       note(out, std::min(a.lb[pu], b.lb[pu]), p, a.s, Proximity{});
@@ -194,8 +196,9 @@ void ClearanceMonitor::interval(const JointPath& path, int depth, const Node& a,
     ++queries_;
     ++out.distance_queries;
     sampled(out, m.lb[pu], p, where);
-    if (m.lb[pu] < settings_.margin_mm) {
-      note(out, m.lb[pu], p, m.s, where);  // an exact distance below the margin: found
+    if (!(m.lb[pu] >= settings_.margin_mm)) {
+      // An exact distance below the margin (or not a number): found.
+      note(out, m.lb[pu], p, m.s, where);
       out.clear = false;
       continue;
     }
@@ -278,6 +281,7 @@ MotionClearance ClearanceMonitor::advance(const JointPath& path) {
     open_.push_back(static_cast<int>(p));
   }
   if (!open_.empty()) {
+    pieces_ = 0;
     const std::vector<int> open = open_;
     interval(path, 0, a, b, open, out);
   }

@@ -16,6 +16,9 @@ namespace {
 constexpr double kLengthMismatchMm = 0.5;
 // No milling tool is 2 m long: a larger length is a typo (and 1e300 put the TCP at infinity).
 constexpr double kMaxToolLengthMm = 2000.0;
+// The tool table's bound on a diameter (cell_xml.cpp): a CL file's larger one is a typo, and a
+// cutter of 1e300 mm left the clearance check no distance to work with.
+constexpr double kMaxToolDiameterMm = 500.0;
 
 }  // namespace
 
@@ -29,6 +32,14 @@ void PostSession::Impl::tool_change(int number, const std::string& name, double 
                 fmt::format("tool {}: length {:g} mm is not valid: a tool length is a number of "
                             "mm from 0 to {:g}",
                             number, cl_length_mm, kMaxToolLengthMm),
+                at);
+  }
+  if (!std::isnan(tool_diameter_mm) &&
+      !(tool_diameter_mm >= 0.0 && tool_diameter_mm <= kMaxToolDiameterMm)) {
+    throw Error(ErrorCode::bad_input,
+                fmt::format("tool {}: diameter {:g} mm is not valid: a tool diameter is a number "
+                            "of mm from 0 to {:g} (NaN: not given)",
+                            number, tool_diameter_mm, kMaxToolDiameterMm),
                 at);
   }
   const ToolTable& table = o.tools.tools.empty() ? cell.tools : o.tools;

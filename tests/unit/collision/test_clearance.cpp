@@ -215,3 +215,51 @@ TEST_CASE("a LIN whose A6 bends past its limit between ends within it is not fol
   CHECK_FALSE(c.clear);
   CHECK(c.path_lost);
 }
+
+TEST_CASE("a bound that never closes ends in bounded work, unproven and not clear", "[collision]") {
+  // With the bound scaled past any distance no piece is ever proven: the halving alone would
+  // take 2^max_depth pieces (what a tool of 1e300 mm did through the C ABI). The pieces budget
+  // ends it, and the motion is called unproven, never clear.
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  std::vector<Body> bodies = test::skeleton_bodies(cell, 70.0);
+  std::vector<std::pair<int, int>> allowed;
+  const int links = static_cast<int>(bodies.size());
+  for (int a = 0; a < links; ++a) {
+    for (int b = a + 1; b < links; ++b)
+      allowed.emplace_back(a, b);
+  }
+  // A box 300 mm beside the tool: near enough that its pairs are open, far from touching.
+  const JointVector q0 = cell.home();
+  Shape box;
+  box.kind = ShapeKind::box;
+  box.size_mm = Eigen::Vector3d(100, 100, 100);
+  box.T_frame_shape.translation() =
+      tcp_pose(cell, q0).translation() + Eigen::Vector3d(0.0, 300.0, 0.0);
+  Body obstacle;
+  obstacle.name = "box";
+  obstacle.role = BodyRole::fixture;
+  obstacle.frame = kFrameBase;
+  obstacle.shapes.push_back(box);
+  bodies.push_back(obstacle);
+  const CollisionScene scene(cell, bodies, allowed);
+  REQUIRE(!scene.pairs().empty());
+  JointVector q1 = q0;
+  q1[cell.find_joint("d_L")] += 200.0;
+  const JointLinePath path(q0, q1);
+  for (const int pieces : {64, 4096}) {
+    ClearanceSettings settings;
+    settings.bound_scale = 1e12;
+    settings.max_pieces = pieces;
+    ClearanceMonitor monitor(scene, settings);
+    REQUIRE(monitor.start(q0).clear);
+    const MotionClearance c = monitor.advance(path);
+    INFO("pieces " << pieces << ", queries " << c.distance_queries << ", pairs "
+                   << scene.pairs().size());
+    CHECK_FALSE(c.clear);
+    CHECK(c.unproven);
+    // The end once, then at most one distance per pair and piece.
+    CHECK(c.distance_queries <=
+          static_cast<long>(scene.pairs().size()) * (static_cast<long>(pieces) + 1));
+    CHECK(c.distance_queries > pieces);  // it did halve up to the budget
+  }
+}

@@ -32,6 +32,10 @@ struct ClearanceSettings {
   // A pair's bound is computed anew once it falls below margin + refresh_within_mm.
   double refresh_within_mm = 25.0;
   int max_depth = 30;  // halvings of one motion before it is called unproven
+  // Pieces one motion may be halved into in all, before it is called unproven: max_depth alone
+  // allows 2^30 where a bound never closes (a body of absurd size, a distance that is not a
+  // number), and the check must end in bounded work whatever it is given.
+  int max_pieces = 4096;
   // How close to the margin a proof may end (mm): a pair that runs along at nearly the margin
   // would otherwise be halved without end. The check proves every distance >= margin -
   // resolution; the exact distances it computes must be >= margin.
@@ -51,7 +55,8 @@ struct MotionClearance {
   double s = 0.0;  // where along the motion (0 start, 1 end)
   // False: a pair comes closer than the margin (or cannot be proven not to), or the path is lost.
   bool clear = true;
-  // Not clear for want of a proof: the bound did not close within max_depth halvings, while no
+  // Not clear for want of a proof: the bound did not close within max_depth halvings (or
+  // max_pieces pieces), while no
   // distance computed on it is below the margin (least_mm is then that bound). A path whose
   // joints move by more than its sampling can see, not a contact found.
   bool unproven = false;
@@ -119,6 +124,7 @@ class ClearanceMonitor {
   std::vector<int> open_;
   bool started_ = false;
   long queries_ = 0;
+  int pieces_ = 0;  // of the motion being checked (max_pieces)
 };
 
 }  // namespace redpost
