@@ -252,8 +252,8 @@ void print_timing(const rp_session* session) {
   }
   if (t.plan_windows > 0) {
     fmt::print(
-        "whole-path plan: {} window(s), {} with the external axes held (faster than moving "
-        "them), {} tracked pose by pose, {} IK solutions\n",
+        "whole-path plan: {} window(s), {} with the external axes held (faster or better "
+        "conditioned than moving them), {} tracked pose by pose, {} IK solutions\n",
         t.plan_windows, t.plan_still_windows, t.plan_fallback_windows, t.plan_ik_evaluations);
   }
   if (!t.axis_speeds_known) {

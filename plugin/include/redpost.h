@@ -427,7 +427,8 @@ typedef struct rp_timing {
   long reduced_arcs;        /* of reduced_moves, arcs fitted through the points (a set with
                                CIRC; each a CIRC where it is proven, else its chords) */
   /* Appended in 0.8 (issue 47): of plan_windows, those planned with the external axes held
-     where the window started, since that was faster than moving them (docs/redundancy.md). */
+     (where the window started, or where a fresh window's approach puts them), since that was
+     faster than moving them or conditioned the arm better (docs/redundancy.md). */
   long plan_still_windows;
 } rp_timing;
 RP_API rp_status rp_timing_get(const rp_session* session, rp_timing* timing);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
@@ -295,26 +296,72 @@ double lowest_inverse_condition(const Cell& cell, const std::vector<JointVector>
   return lowest;
 }
 
+// Where a fresh window (the first, or the first after a tool change) may hold the external
+// axes: no motion is committed yet, and the axes go wherever the approach takes them before the
+// cut. Where the moving plan starts; where it has taken them by the end of its committed part (a
+// plan that moves the track over once to a better place holds it there from the start); and each
+// free axis a step either side of the start, a track 300 mm (a third of the arm's reach: another
+// posture of the arm, the part still within reach), a table a quarter turn; within the limits.
+// Each a posture whose external axes are the values to hold (the arm's joints are not used).
+std::vector<JointVector> fresh_holds(const Cell& cell, const std::bitset<kMaxJoints>& user_locked,
+                                     const std::vector<JointVector>& q, std::size_t last_kf) {
+  constexpr double kTrackStepMm = 300.0;
+  constexpr double kTableStepRad = 0.5 * kPi;
+  std::vector<JointVector> out{q.front()};
+  const std::bitset<kMaxJoints> external = external_axes(cell);
+  JointVector moved = q.front();
+  bool differs = false;
+  for (int i = 0; i < cell.size(); ++i) {
+    if (external.test(static_cast<std::size_t>(i))) {
+      differs = differs || std::fabs(q[last_kf][i] - moved[i]) > 1e-3;
+      moved[i] = q[last_kf][i];
+    }
+  }
+  if (differs)
+    out.push_back(moved);
+  for (int i = 0; i < cell.size(); ++i) {
+    const auto iu = static_cast<std::size_t>(i);
+    if (!external.test(iu) || user_locked.test(iu))
+      continue;  // a user's lock stays
+    const Joint& j = cell.joint(i);
+    const double step = j.type == JointType::prismatic ? kTrackStepMm : kTableStepRad;
+    for (const double sign : {-1.0, 1.0}) {
+      JointVector shifted = q.front();
+      shifted[i] += sign * step;
+      if (shifted[i] >= j.lower && shifted[i] <= j.upper)
+        out.push_back(shifted);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
-// Issue 47 (docs/redundancy.md, "Held or moved"): a window's plan moves the track and the table
-// only where holding them is not faster. The plan with every external axis held where the window
-// starts is the alternative; both are timed by the time model over the window's CL points up to
-// until_s (estimate_plan_time: what the lattice's velocity terms do not see, the corners a slow
-// axis makes at the path's corners), and the held plan is taken where it is faster by
-// hold_gain, keeps the plan's room to the bodies, and keeps the arm's conditioning above the
-// threshold or above the moving plan's.
+// Issue 47 (docs/redundancy.md, "Held or moved", "Where to hold"): a window's plan moves the
+// track and the table only where holding them is not faster. The plan with every external axis
+// held where the window starts is the alternative (in a fresh window, the fastest of the places
+// fresh_holds gives); both are timed by the time model over the window's CL points up to until_s
+// (estimate_plan_time: what the lattice's velocity terms do not see, the corners a slow axis
+// makes at the path's corners). The held plan must keep the plan's room to the bodies and the
+// arm's conditioning at the threshold or above the moving plan's; it is taken where it is
+// faster by hold_gain, or where it keeps the conditioning at the threshold and the moving plan
+// does not.
 bool PostSession::Impl::choose_still(const std::vector<PlanKeyframe>& kf,
                                      const std::vector<PlanKeyframe>& ends, double until_s,
                                      const JointVector* start, const PlanHistory& history,
                                      PlanWindowResult& r, PlanBatch& batch) {
-  if (!planner_still || !r.feasible || !moves_external(*active_cell, kf, r.q, until_s))
+  // A window that goes on from a committed posture has a choice where its plan moves the axes;
+  // a fresh one also where it might hold them elsewhere (fresh_holds).
+  if (!planner_still || !r.feasible || (start && !moves_external(*active_cell, kf, r.q, until_s)))
     return false;
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  PlanChoice choice{kf.front().cl_line, kf.back().cl_line, nan, nan, false};
-  for (const PlanKeyframe& k : kf) {
-    if (k.s_mm <= until_s + 1e-9)
-      choice.last_cl_line = k.cl_line;
+  PlanChoice choice{kf.front().cl_line, kf.back().cl_line, nan, nan, false, {}};
+  std::size_t last_kf = 0;  // the last keyframe of the committed part
+  for (std::size_t k = 0; k < kf.size(); ++k) {
+    if (kf[k].s_mm <= until_s + 1e-9) {
+      choice.last_cl_line = kf[k].cl_line;
+      last_kf = k;
+    }
   }
   const Cell& c = *active_cell;
   // The CL points are the motions' ends here; under the point reduction the program merges the
@@ -325,37 +372,73 @@ bool PostSession::Impl::choose_still(const std::vector<PlanKeyframe>& kf,
     controller.interpolation_cycle_s = 0.0;
     controller.lookahead_motions = -1;
   }
-  PlanWindowResult held =
-      planner_still->plan(kf, start ? start : &r.q.front(), 0, nullptr, &history);
-  batch.ik_evaluations += held.ik_evaluations;
+  // A fresh window after a tool change pays for its approach from where the axes stand.
+  const JointVector* from = !start && history.standing.size() > 0 ? &history.standing : nullptr;
+  const std::vector<JointVector> holds =
+      start ? std::vector<JointVector>{*start}
+            : fresh_holds(c, planner->settings().locked, r.q, last_kf);
   // Held axes must keep the room the plan keeps (avoid_in_plan) and its conditioning: where
   // they do not, the axes move as planned.
   const double threshold = planner_still->settings().condition_threshold;
-  double kappa_held = 0.0;
-  if (held.feasible &&
-      unclear_keyframes(held.q, o.collision.margin_mm + 0.05 * o.collision.plan_extra_mm).empty() &&
-      ((kappa_held = lowest_inverse_condition(c, held.q)) >= threshold ||
-       kappa_held >= lowest_inverse_condition(c, r.q))) {
+  const double kappa_moving = lowest_inverse_condition(c, r.q);
+  // The conditioning is a constraint that vanishes once safe: a plan at or above the threshold
+  // is taken over one below it, and between two on the same side the faster (issue 47, item 1).
+  const bool moving_ok = kappa_moving >= threshold;
+  bool best_ok = false;
+  PlanWindowResult best;
+  for (std::size_t h = 0; h < holds.size(); ++h) {
+    const JointVector& hold = holds[h];
+    // Held elsewhere than the moving plan starts, the plan must keep the whole room the plan
+    // keeps (margin + plan_extra_mm) without avoid_in_plan's second search: a raster held 300 mm
+    // further along with less passed its keyframes and then brought the cutter within 4.77 mm
+    // of the robot's base between them, where the tracker follows the plan.
+    const double need = o.collision.margin_mm + (h == 0 ? 0.05 : 1.0) * o.collision.plan_extra_mm;
+    // A fresh window's held plan starts as a plan with the axes locked at those values would
+    // (`--lock E1=v`): the lattice picks the posture and the spin at its first keyframe.
+    std::optional<PathPlanner> locked;
+    if (!start) {
+      PathPlanSettings at = planner_still->settings();
+      for (int i = 0; i < c.size(); ++i) {
+        if (at.locked.test(static_cast<std::size_t>(i)) && std::isnan(at.lock_value[i]))
+          at.lock_value[i] = hold[i];
+      }
+      locked.emplace(c, planner_still->ik(), at);
+    }
+    const PathPlanner& p = locked ? *locked : *planner_still;
+    PlanWindowResult held = p.plan(kf, start, 0, nullptr, &history);
+    batch.ik_evaluations += held.ik_evaluations;
+    double kappa_held = 0.0;
+    if (!held.feasible || !unclear_keyframes(held.q, need).empty() ||
+        ((kappa_held = lowest_inverse_condition(c, held.q)) < threshold &&
+         kappa_held < kappa_moving))
+      continue;
     const PlanTimeEstimate still =
-        estimate_plan_time(c, *planner_still, controller, apo_mm, kf, held.q, ends, until_s);
-    if (still.feasible)
+        estimate_plan_time(c, p, controller, apo_mm, kf, held.q, ends, until_s, from);
+    const bool ok = kappa_held >= threshold;
+    if (still.feasible &&
+        ((ok && !best_ok) || (ok == best_ok && !(still.time_s >= choice.still_s)))) {
       choice.still_s = still.time_s;
+      choice.still_start = held.q.front();
+      best_ok = ok;
+      best = std::move(held);
+    }
   }
   // The moving plan is timed where there is a choice to make (or somebody asks).
   if (!std::isnan(choice.still_s) || o.on_plan_choice) {
     const PlanTimeEstimate moving =
-        estimate_plan_time(c, *planner, controller, apo_mm, kf, r.q, ends, until_s);
+        estimate_plan_time(c, *planner, controller, apo_mm, kf, r.q, ends, until_s, from);
     if (moving.feasible)
       choice.moving_s = moving.time_s;
   }
   const double gain = planner->settings().hold_gain;
-  choice.still = !std::isnan(choice.still_s) &&
-                 (std::isnan(choice.moving_s) || choice.still_s < (1.0 - gain) * choice.moving_s);
+  choice.still =
+      !std::isnan(choice.still_s) && ((best_ok && !moving_ok) || std::isnan(choice.moving_s) ||
+                                      choice.still_s < (1.0 - gain) * choice.moving_s);
   if (o.on_plan_choice)
     o.on_plan_choice(choice);
   if (!choice.still)
     return false;
-  r = std::move(held);
+  r = std::move(best);
   ++batch.still_windows;
   return true;
 }

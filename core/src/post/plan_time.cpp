@@ -61,13 +61,19 @@ PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner
                                     const ControllerTiming& controller, double blend_mm,
                                     const std::vector<PlanKeyframe>& keyframes,
                                     const std::vector<JointVector>& q,
-                                    const std::vector<PlanKeyframe>& ends, double until_s) {
+                                    const std::vector<PlanKeyframe>& ends, double until_s,
+                                    const JointVector* approach_from) {
   PlanTimeEstimate out;
   if (keyframes.empty() || q.size() != keyframes.size())
     return out;
   PathTimer timer(cell, controller, [](const TimedMotion&, const MotionTiming&) {});
   CandidateMotions m{cell, controller, blend_mm, timer, {}, {}, Isometry::Identity(), 0};
-  m.start(q.front());
+  if (approach_from && approach_from->size() == q.front().size()) {
+    m.start(*approach_from);
+    m.ptp(q.front(), keyframes.front().cl_line);
+  } else {
+    m.start(q.front());
+  }
   double s_prev = keyframes.front().s_mm;
   std::size_t k = 1;  // the next keyframe after s_prev
   JointVector q_at(cell.size());

@@ -31,10 +31,13 @@ struct PlanTimeEstimate {
 // taken as given: where the program's point reduction merges dense CL points into longer
 // motions, the caller leaves the interpolation cycle and the look-ahead out of it, which would
 // otherwise slow every candidate alike on the unmerged points and hide what tells them apart.
+// approach_from: where the axes stand before a window without a committed start (after a tool
+// change): the approach to q[0] is timed too, as a synchronous PTP; null: not known or none.
 PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner,
                                     const ControllerTiming& controller, double blend_mm,
                                     const std::vector<PlanKeyframe>& keyframes,
                                     const std::vector<JointVector>& q,
-                                    const std::vector<PlanKeyframe>& ends, double until_s);
+                                    const std::vector<PlanKeyframe>& ends, double until_s,
+                                    const JointVector* approach_from = nullptr);
 
 }  // namespace redpost

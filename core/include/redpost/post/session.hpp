@@ -51,13 +51,16 @@ struct MotionDeflection {
 // One motion as it is written, for a host that watches the run (the report of `redpost convert`).
 // The pointers are valid during the call only; nothing is allocated to make a sample.
 // One window's choice between the plan that moves the external axes and the one that holds
-// them where the window starts (PostOptions::on_plan_choice): the time model's seconds for each
-// over the window's committed path (post/plan_time.hpp), NaN where that plan has none (it is
-// not feasible, or it leaves the room or the conditioning the plan keeps).
+// them (PostOptions::on_plan_choice): where the window starts, or in a window with nothing
+// committed before it the fastest of a few places its approach may put them. The time model's
+// seconds for each over the window's committed path (post/plan_time.hpp; with the approach
+// from where the axes stand after a tool change), NaN where that plan has none (it is not
+// feasible, or it leaves the room or the conditioning the plan keeps).
 struct PlanChoice {
   int first_cl_line = 0, last_cl_line = 0;
   double moving_s = 0.0, still_s = 0.0;
-  bool still = false;  // the held plan was taken
+  bool still = false;       // the held plan was taken
+  JointVector still_start;  // the held plan's posture at the window's start (empty: none)
 };
 
 struct MotionSample {
@@ -276,8 +279,8 @@ struct PostSummary {
   // The whole-path plan (PostOptions::plan global; docs/redundancy.md).
   long plan_windows = 0;           // windows planned
   long plan_fallback_windows = 0;  // of them, tracked pose by pose (no sequence on the lattice)
-  // ... with the external axes held where the window started, since that was faster than
-  // moving them (PathPlanSettings::hold_gain).
+  // ... with the external axes held, since that was faster than moving them
+  // (PathPlanSettings::hold_gain) or kept the arm's conditioning where moving them did not.
   long plan_still_windows = 0;
   long plan_ik_evaluations = 0;  // lattice nodes solved (closed-form IK of one posture each)
 

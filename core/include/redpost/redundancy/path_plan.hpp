@@ -165,6 +165,7 @@ class PathPlanner {
   bool solve_at(const TcpTarget& target, const JointVector& q_plan, JointVector& q) const;
 
   const std::vector<int>& free_joints() const { return free_; }
+  const ArmIk& ik() const { return *ik_; }
   const PathPlanSettings& settings() const { return settings_; }
 
  private:
