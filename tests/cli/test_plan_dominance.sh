@@ -5,8 +5,7 @@
 # default plan and with the track and the table held at a grid of values
 # (tests/cli/plan_dominance.py: the track at its first-pose value, 300 mm either side and home;
 # the table at its first-pose value and every 90 deg). No held program may be faster by more than
-# 2 % (the random paths: 3 %), travel less and keep 1/kappa_F at or above the plan's threshold
-# 0.3, all at once.
+# 2 %, travel less and keep 1/kappa_F at or above the plan's threshold 0.3, all at once.
 #
 # Usage: test_plan_dominance.sh REDPOST SOURCE_DIR
 # With REDPOST_QUICK=1 (the suite under the sanitizers, 25 times slower): 4 held settings per
@@ -77,11 +76,11 @@ for feed in "${feeds[@]}"; do
   begin "the examples and the real CAM files: the default plan is not dominated by held external axes (feed ${feed/#0/own})"
   judge 0.02 "${files[@]}"
   passed
-  # The random paths at 3 %: one raster (238 mm wide at 46 deg) is 2.02 % slower than one held
-  # setting, through the arm's posture at its stepovers, not through moving the axes (its track
-  # moves 80 mm once); docs/redundancy.md, "Held or moved", says what is not done yet.
-  begin "seeded random rasters and passes: not dominated by more than 3 % (feed ${feed/#0/own})"
-  judge 0.03 "${generated[@]}"
+  # The random paths at 2 % too since issue 47's step 4: one raster (238 mm wide at 46 deg) was
+  # 2.02 % slower than one held setting until a fresh window could hold the axes where its
+  # approach puts them (docs/redundancy.md, "Where to hold"); now as fast.
+  begin "seeded random rasters and passes: not dominated (feed ${feed/#0/own})"
+  judge 0.02 "${generated[@]}"
   passed
 done
 begin "the check sees a dominated plan: the stiff preset's raster at 10 000 mm/min"
