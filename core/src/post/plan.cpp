@@ -350,9 +350,21 @@ bool PostSession::Impl::choose_still(const std::vector<PlanKeyframe>& kf,
                                      const std::vector<PlanKeyframe>& ends, double until_s,
                                      const JointVector* start, const PlanHistory& history,
                                      PlanWindowResult& r, PlanBatch& batch) {
-  // A window that goes on from a committed posture has a choice where its plan moves the axes;
-  // a fresh one also where it might hold them elsewhere (fresh_holds).
-  if (!planner_still || !r.feasible || (start && !moves_external(*active_cell, kf, r.q, until_s)))
+  if (!planner_still || !r.feasible)
+    return false;
+  // A fresh window after a tool change pays for its approach from where the axes stand.
+  const JointVector* from = !start && history.standing.size() > 0 ? &history.standing : nullptr;
+  // A window has a choice where its plan moves the axes; a fresh one also where it might hold
+  // them elsewhere (fresh_holds). After a tool change the places are searched (up to six window
+  // plans more) only for an operation of at least kSearchMotions motions: a shorter one cannot
+  // repay them, and a program of many short operations (each hole its own tool) would be
+  // planned seven times over.
+  constexpr long kSearchMotions = 20;
+  const bool search =
+      !start && (!from || std::count_if(ends.begin(), ends.end(), [&](const auto& e) {
+                            return e.s_mm > kf.front().s_mm + 1e-9 && e.s_mm <= until_s + 1e-9;
+                          }) >= kSearchMotions);
+  if (!search && !moves_external(*active_cell, kf, r.q, until_s))
     return false;
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   PlanChoice choice{kf.front().cl_line, kf.back().cl_line, nan, nan, false, {}};
@@ -372,11 +384,9 @@ bool PostSession::Impl::choose_still(const std::vector<PlanKeyframe>& kf,
     controller.interpolation_cycle_s = 0.0;
     controller.lookahead_motions = -1;
   }
-  // A fresh window after a tool change pays for its approach from where the axes stand.
-  const JointVector* from = !start && history.standing.size() > 0 ? &history.standing : nullptr;
   const std::vector<JointVector> holds =
-      start ? std::vector<JointVector>{*start}
-            : fresh_holds(c, planner->settings().locked, r.q, last_kf);
+      search ? fresh_holds(c, planner->settings().locked, r.q, last_kf)
+             : std::vector<JointVector>{start ? *start : r.q.front()};
   // Held axes must keep the room the plan keeps (avoid_in_plan) and its conditioning: where
   // they do not, the axes move as planned.
   const double threshold = planner_still->settings().condition_threshold;
