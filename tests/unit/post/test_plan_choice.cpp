@@ -5,7 +5,8 @@
 // the track and the table locked where it holds them), and the time model's cycle time
 // of each written program is the reference: where the two programs differ by more than 2 %, the
 // estimates must rank them the same way, and the program the session wrote with the choice on
-// must be the one it chose.
+// must be the one it chose; where one candidate's program keeps the arm's lowest 1/kappa_F at
+// the plan's threshold and the other's does not, the one written must keep it.
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -114,7 +115,7 @@ TEST_CASE(
   const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
   const KrlTemplateSet krl = load_krl_templates(test::source_path("definitions/krl/krc4_lin.xml"));
   std::mt19937 rng(47);
-  int compared = 0, ranked = 0;
+  int compared = 0, ranked = 0, conditioned = 0;
   double worst_error = 0.0;
   std::string log;
   for (int n = 0; n < 16; ++n) {
@@ -161,15 +162,28 @@ TEST_CASE(
     }
     worst_error =
         std::max(worst_error, std::fabs(d_estimate - d_program) / std::min(t_moving, t_held));
+    // The conditioning first (issue 47, step 4): where one candidate's program keeps the arm's
+    // lowest 1/kappa_F at the plan's threshold and the other's does not, the one written does.
+    const double threshold = o.plan_settings.condition_threshold;
+    const double k_moving = moving.summary.lowest_inv_condition,
+                 k_held = held.summary.lowest_inv_condition;
+    log += fmt::format("  1/kappa_F: moving {:.3f}, held {:.3f}, written {:.3f}\n", k_moving,
+                       k_held, chosen.summary.lowest_inv_condition);
+    if ((k_moving >= threshold) != (k_held >= threshold)) {
+      ++conditioned;
+      CHECK(chosen.summary.lowest_inv_condition >= threshold);
+    }
     // The program written with the choice on is the candidate chosen.
     const double t_chosen = c.still ? t_held : t_moving;
     CHECK(chosen.summary.cycle_time_s == Approx(t_chosen).epsilon(0.005));
   }
   INFO(log);
-  INFO("compared " << compared << ", ranked " << ranked << ", worst error of the "
+  INFO("compared " << compared << ", ranked " << ranked << ", on either side of the "
+                   << "threshold " << conditioned << ", worst error of the "
                    << "difference " << worst_error);
   CHECK(compared >= 6);
   CHECK(ranked >= 3);
+  CHECK(conditioned >= 2);  // 3 on these paths; step 3's choice by time alone wrote 0.234 on one
   // The estimates' difference is the programs' within 9 % of the cycle time (8.1 % measured on
   // these paths, 6.2 % while only the windows whose plan moved an axis were compared: the
   // estimate joins LINs at the keyframes inside a move, where the track's rate changes, and the
