@@ -56,9 +56,8 @@ struct MotionClearance {
   // False: a pair comes closer than the margin (or cannot be proven not to), or the path is lost.
   bool clear = true;
   // Not clear for want of a proof: the bound did not close within max_depth halvings (or
-  // max_pieces pieces), while no
-  // distance computed on it is below the margin (least_mm is then that bound). A path whose
-  // joints move by more than its sampling can see, not a contact found.
+  // max_pieces pieces), while no distance computed on it is below the margin (least_mm is then
+  // that bound). A path whose joints move by more than its sampling can see, not a contact found.
   bool unproven = false;
   // The arm cannot follow the motion's path somewhere (its IK fails in the posture it starts
   // in): no distance there, so not proven clear.
