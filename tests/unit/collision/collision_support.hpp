@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "redpost/collision/body.hpp"
@@ -89,6 +90,17 @@ inline double point_to_shape(const Eigen::Vector3d& p_B, const Shape& s,
       break;
   }
   return std::numeric_limits<double>::quiet_NaN();
+}
+
+// Every pair among the first `count` bodies: the skeleton's links overlap where they meet, so
+// their own pairs are allowed to touch.
+inline std::vector<std::pair<int, int>> all_pairs(int count) {
+  std::vector<std::pair<int, int>> out;
+  for (int a = 0; a < count; ++a) {
+    for (int b = a + 1; b < count; ++b)
+      out.emplace_back(a, b);
+  }
+  return out;
 }
 
 // Capsules along a cell's DH links (each link from the previous frame's origin along its z by

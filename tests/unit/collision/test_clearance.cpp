@@ -83,12 +83,8 @@ Outcome run(double bound_scale, int seed) {
     const Eigen::Vector3d around = tcp_pose(cell, home).translation();
     // The arm against the obstacles: the skeleton's links overlap where they meet, so its own
     // pairs are allowed.
-    std::vector<std::pair<int, int>> allowed;
-    const int links = static_cast<int>(bodies.size());
-    for (int a = 0; a < links; ++a) {
-      for (int b = a + 1; b < links; ++b)
-        allowed.emplace_back(a, b);
-    }
+    const std::vector<std::pair<int, int>> allowed =
+        test::all_pairs(static_cast<int>(bodies.size()));
     for (Body& b : obstacles(rng, around, 8))
       bodies.push_back(b);
     CollisionScene scene(cell, bodies, allowed);
@@ -203,11 +199,7 @@ TEST_CASE("a LIN whose A6 bends past its limit between ends within it is not fol
   CHECK_FALSE(path.at(0.5, q));
   // The monitor calls it lost, not clear.
   const std::vector<Body> bodies = test::skeleton_bodies(cell, 10.0);
-  std::vector<std::pair<int, int>> allowed;
-  for (int a = 0; a < static_cast<int>(bodies.size()); ++a) {
-    for (int b = a + 1; b < static_cast<int>(bodies.size()); ++b)
-      allowed.emplace_back(a, b);
-  }
+  const std::vector<std::pair<int, int>> allowed = test::all_pairs(static_cast<int>(bodies.size()));
   CollisionScene scene(cell, bodies, allowed);
   ClearanceMonitor monitor(scene, ClearanceSettings{});
   monitor.start(q0);
@@ -222,12 +214,7 @@ TEST_CASE("a bound that never closes ends in bounded work, unproven and not clea
   // ends it, and the motion is called unproven, never clear.
   const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
   std::vector<Body> bodies = test::skeleton_bodies(cell, 70.0);
-  std::vector<std::pair<int, int>> allowed;
-  const int links = static_cast<int>(bodies.size());
-  for (int a = 0; a < links; ++a) {
-    for (int b = a + 1; b < links; ++b)
-      allowed.emplace_back(a, b);
-  }
+  const std::vector<std::pair<int, int>> allowed = test::all_pairs(static_cast<int>(bodies.size()));
   // A box 300 mm beside the tool: near enough that its pairs are open, far from touching.
   const JointVector q0 = cell.home();
   Shape box;

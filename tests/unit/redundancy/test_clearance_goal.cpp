@@ -23,12 +23,8 @@ struct Setup {
 
   explicit Setup(const Eigen::Vector3d& obstacle, double radius_mm) {
     std::vector<Body> bodies = test::skeleton_bodies(cell, 60.0);
-    std::vector<std::pair<int, int>> allowed;
-    const int links = static_cast<int>(bodies.size());
-    for (int a = 0; a < links; ++a) {
-      for (int b = a + 1; b < links; ++b)
-        allowed.emplace_back(a, b);
-    }
+    const std::vector<std::pair<int, int>> allowed =
+        test::all_pairs(static_cast<int>(bodies.size()));
     Shape s;
     s.kind = ShapeKind::sphere;
     s.radius_mm = radius_mm;
