@@ -30,6 +30,8 @@ bool is_motion(const ClEvent& e) {
 constexpr std::size_t kMaxDeferred = 20000;
 // Tool axis turn between keyframes at most (deg).
 constexpr double kTurnDeg = 5.0;
+// A keyframe this close to a rapid's end stands for it (no second keyframe there), mm.
+constexpr double kAirGapMm = 0.5;
 
 // Caro's criterion for the plan (path_plan.hpp), where the cell's six arm joints have stiffness
 // data: the tool's deflection normal to the feed and the tool axis, c = |n . dX|, under a nominal
@@ -67,7 +69,11 @@ struct KeyframeWalk {
   double next_kf_s = 0.0;      // where the next keyframe goes
   double feed_mm_s = 0.0;
   bool rapid_next = false;
-  bool rapid_now = false;  // the motion walked is a rapid (its keyframes say so)
+  bool rapid_now = false;  // the motion walked is a rapid traverse (PTP or LIN)
+  bool ptp_now = false;    // ... written as a PTP (above its clearance plane)
+  // Where the run of rapids walked began (infinity: none): a keyframe whose previous one is at or
+  // after it is reached in the air (PlanKeyframe::in_air).
+  double air_since_s = std::numeric_limits<double>::infinity();
 
   PlanKeyframe at(const Eigen::Vector3d& p, const Eigen::Vector3d& z, double s_mm, double speed,
                   int line) const {
@@ -75,7 +81,8 @@ struct KeyframeWalk {
     k.target = TcpTarget::axis(o.T_B_part * p, o.T_B_part.linear() * z.normalized());
     k.s_mm = s_mm;
     k.speed_mm_s = speed;
-    k.rapid = rapid_now;
+    k.rapid = ptp_now;
+    k.in_air = rapid_now && !kf.empty() && kf.back().s_mm >= air_since_s - kAirGapMm;
     k.cl_line = line;
     return k;
   }
@@ -87,6 +94,12 @@ struct KeyframeWalk {
     // the tool fast over little length, and the plan must see the wrist's way through it.
     const double turn = std::acos(std::clamp(z_cl.dot(z1n), -1.0, 1.0));
     const int turns = static_cast<int>(std::ceil(rad_to_deg(turn) / kTurnDeg - 1e-9));
+    // A rapid's ends are keyframes, so that the plan can move the external axes within it and
+    // not in the cut before or after (PathPlanSettings::w_travel_cut).
+    if (rapid_now && !kf.empty() && kf.back().s_mm < s - kAirGapMm) {
+      kf.push_back(at(p_cl, z_cl, s, speed, line));
+      next_kf_s = s + spacing;
+    }
     std::vector<double> at_t;
     while (length > 0.0 && next_kf_s <= s + length - 1e-9) {
       at_t.push_back((next_kf_s - s) / length);
@@ -105,15 +118,43 @@ struct KeyframeWalk {
     }
     if (turns > 1 && length <= 0.0)
       kf.push_back(at(p1, z1n, s, speed, line));  // a pure turn: its end
+    if (rapid_now && !kf.empty() && kf.back().s_mm < s + length - kAirGapMm) {
+      kf.push_back(at(p1, z1n, s + length, speed, line));
+      next_kf_s = s + length + spacing;
+    }
     s += length;
     p_cl = p1;
     z_cl = z1n;
     ends.push_back(at(p_cl, z_cl, s, speed, line));
   }
 
+  // Whether a rapid to e is written as a PTP: both its ends at or above its clearance plane
+  // (the cycle's, or --clearance; motion.cpp, rapid_move). One that crosses the plane is split
+  // there, partly a LIN: it is taken as a LIN.
+  bool above_plane(const ClEvent& e) const {
+    Eigen::Vector3d point, normal;
+    if (e.has_clearance) {
+      point = e.clearance_p_mm;
+      normal = e.tool_axis.normalized();
+    } else if (std::isfinite(o.clearance_z_mm)) {
+      point = Eigen::Vector3d(0.0, 0.0, o.clearance_z_mm);
+      normal = Eigen::Vector3d::UnitZ();
+    } else {
+      return false;
+    }
+    constexpr double kOn = 1e-6;  // as rapid_move: a point on the plane counts as above it
+    return normal.dot(p_cl - point) >= -kOn && normal.dot(e.p_mm - point) >= -kOn;
+  }
+
   // The path of one motion call; its end's s.
   double motion(const ClEvent& e) {
+    const bool was_rapid = rapid_now;
     rapid_now = e.rapid || rapid_next;
+    ptp_now = rapid_now && above_plane(e);
+    if (!rapid_now)
+      air_since_s = std::numeric_limits<double>::infinity();
+    else if (!was_rapid)
+      air_since_s = s;
     const double speed = rapid_now ? 1000.0 * o.rapid_velocity_m_per_s : feed_mm_s;
     rapid_next = false;
     if (e.kind == ClEventKind::arc) {

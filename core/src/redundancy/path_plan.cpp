@@ -49,6 +49,19 @@ void first_range(const Joint& j, double& lo, double& hi) {
   }
 }
 
+// The external axes' travel in the cut is priced (w_travel_cut) after the window's first rapid:
+// what they do there they could have done in that rapid, or do in the next. Before it (a window
+// that starts in a pass, the program's first pass, a long pass) there is no such place in view,
+// and the track carries the path as the centring asks. The first keyframe reached in the air;
+// -1: none.
+int first_in_air(const std::vector<PlanKeyframe>& keyframes) {
+  for (std::size_t k = 1; k < keyframes.size(); ++k) {
+    if (keyframes[k].in_air)
+      return static_cast<int>(k);
+  }
+  return -1;
+}
+
 }  // namespace
 
 PathPlanSettings plan_preset(PlanPreset preset) {
@@ -94,6 +107,8 @@ PathPlanner::PathPlanner(const Cell& cell, const ArmIk& ik, const PathPlanSettin
       travel_per_unit_[iu] =
           (arm_.test(iu) ? settings.w_travel_arm : settings.w_travel) / j.max_velocity;
       need_per_unit_[iu] = 1.0 / (settings.speed_margin * j.max_velocity);
+      if (!arm_.test(iu) && j.type != JointType::virtual_spin)
+        cut_per_unit_[iu] = settings.w_travel_cut / j.max_velocity;
     }
   }
   // The joints an edge looks at: the arm's (their step is bounded) and those with a speed.
@@ -212,7 +227,7 @@ double PathPlanner::compliance_cost(const JointVector& q, const Eigen::Vector3d&
 }
 
 double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
-                              const JointVector& q0, const JointVector& q1) const {
+                              const JointVector& q0, const JointVector& q1, bool price_cut) const {
   const PathPlanSettings& s = settings_;
   const double ds = std::max(to.s_mm - from.s_mm, 0.0);
   const double dt = to.speed_mm_s > 0.0 ? ds / to.speed_mm_s : 0.0;
@@ -222,7 +237,9 @@ double PathPlanner::edge_cost(const PlanKeyframe& from, const PlanKeyframe& to,
     const double dq = std::fabs(q1[i] - q0[i]);
     if (arm_.test(iu) && dq > max_arm_step_rad_)
       return std::numeric_limits<double>::infinity();
-    travel_s += travel_per_unit_[iu] * dq;
+    travel_s += (price_cut && !to.in_air ? travel_per_unit_[iu] + cut_per_unit_[iu]
+                                         : travel_per_unit_[iu]) *
+                dq;
     need_s = std::max(need_s, need_per_unit_[iu] * dq);
   }
   if (to.rapid)
@@ -368,6 +385,7 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
       !start && history && history->standing.size() == cell.size() ? &history->standing : nullptr;
   // Counted from the pool's threads at once.
   std::vector<std::atomic<int>> limit_hits(static_cast<std::size_t>(cell.size()));
+  const int first_air = first_in_air(keyframes);
   const auto search = [&](const std::vector<LatticeKey>& first_keys) {
     return lattice_dp(
         static_cast<int>(keyframes.size()), first_keys, dp,
@@ -387,7 +405,8 @@ PlanWindowResult PathPlanner::plan(const std::vector<PlanKeyframe>& keyframes,
         },
         [&](int layer, const LatticeNode& a, const LatticeNode& b) {
           return edge_cost(keyframes[static_cast<std::size_t>(layer - 1)],
-                           keyframes[static_cast<std::size_t>(layer)], a.q, b.q) +
+                           keyframes[static_cast<std::size_t>(layer)], a.q, b.q,
+                           first_air >= 0 && first_air < layer) +
                  reversal_cost(a, b);
         },
         [&](int layer, const LatticeNode& n) {
@@ -467,11 +486,17 @@ void PathPlanner::smooth(const std::vector<PlanKeyframe>& keyframes, const Latti
   if (half <= 0 || n < 3)
     return;
   std::vector<JointVector> free_values = q;
+  // The average stays within a run of edges of one kind (all in the air, or none): a change the
+  // lattice put in a rapid is not spread into the cut beside it (w_travel_cut).
+  const auto in_air = [&](int k) { return keyframes[static_cast<std::size_t>(k)].in_air; };
   for (int pass = 0; pass < 2; ++pass) {
     const std::vector<JointVector> before = free_values;
     for (int k = 1; k < n; ++k) {
       const int a = std::max(0, k - half), b = std::min(n - 1, k + half);
-      const int w = std::min(k - a, b - k);  // symmetric, so the ends are not dragged
+      const int reach = std::min(k - a, b - k);  // symmetric, so the ends are not dragged
+      int w = 0;
+      while (w < reach && in_air(k - w) == in_air(k) && in_air(k + w + 1) == in_air(k))
+        ++w;
       for (int f : free_) {
         double sum = 0.0;
         for (int m = k - w; m <= k + w; ++m)

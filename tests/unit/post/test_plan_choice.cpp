@@ -184,10 +184,113 @@ TEST_CASE(
   CHECK(compared >= 6);
   CHECK(ranked >= 3);
   CHECK(conditioned >= 2);  // 3 on these paths; step 3's choice by time alone wrote 0.234 on one
-  // The estimates' difference is the programs' within 9 % of the cycle time (8.1 % measured on
-  // these paths, 6.2 % while only the windows whose plan moved an axis were compared: the
+  // The estimates' difference is the programs' within 8 % of the cycle time (7.1 % measured on
+  // these paths; 8.1 % while a rapid's inner keyframes were timed as points, 6.2 % while only
+  // the windows whose plan moved an axis were compared: the
   // estimate joins LINs at the keyframes inside a move, where the track's rate changes, and the
   // program writes one LIN per move, so a moving plan's estimate runs high: path 2's by 12 %).
   // Timed without those joints, one pair ranked the wrong way; docs/redundancy.md.
-  CHECK(worst_error < 0.09);
+  CHECK(worst_error < 0.08);
+}
+
+namespace {
+
+// Square contours of 40 mm on the table, 120 to 160 mm apart along the track (4 to 6 of them, up
+// to 800 mm), joined by rapids (up, across, down), as a job of several small pockets is.
+std::string pockets_along_track(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::string apt = "PARTNO/POCKETS\nUNITS/MM\nMULTAX/ON\nCUTTER/10.,5.\nLOADTL/1\n";
+  apt += "SPINDL/15000,RPM,CLW\n";
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  const int pockets = 4 + static_cast<int>(3.0 * u01(rng));
+  for (int k = 0; k < pockets; ++k) {
+    const Eigen::Vector3d c(-160.0 + 120.0 * u01(rng), -300.0 - 120.0 * k - 40.0 * u01(rng), 60.0);
+    const double half = 20.0;
+    apt += "RAPID\n" + goto_line(c + Eigen::Vector3d(-half, -half, 50.0), z);
+    apt += "RAPID\n" + goto_line(c + Eigen::Vector3d(-half, -half, 5.0), z);
+    apt += "FEDRAT/MMPM,2000\n" + goto_line(c + Eigen::Vector3d(-half, -half, 0.0), z);
+    for (int lap = 0; lap < 3; ++lap) {
+      for (double s = 0.0; s < 4.0 * 2.0 * half - 1e-9; s += 2.0) {
+        const int side = static_cast<int>(s / (2.0 * half));
+        const double t = s - side * 2.0 * half - half;
+        const Eigen::Vector3d p = side == 0   ? Eigen::Vector3d(t, -half, 0.0)
+                                  : side == 1 ? Eigen::Vector3d(half, t, 0.0)
+                                  : side == 2 ? Eigen::Vector3d(-t, half, 0.0)
+                                              : Eigen::Vector3d(-half, -t, 0.0);
+        apt += goto_line(c + p, z);
+      }
+    }
+    apt += goto_line(c + Eigen::Vector3d(-half, -half, 0.0), z);
+    apt += goto_line(c + Eigen::Vector3d(-half, -half, 5.0), z);
+  }
+  apt += "RAPID\n" + goto_line(Eigen::Vector3d(-100.0, -300.0 - 250.0 * pockets, 140.0), z);
+  return apt + "FINI\n";
+}
+
+struct ExternalTravel {
+  double track_cut_mm = 0.0, track_air_mm = 0.0;  // in feed moves; in rapids and PTPs
+  double table_cut_deg = 0.0, table_air_deg = 0.0;
+};
+
+}  // namespace
+
+// Issue 47, item 1: the external axes change position in the rapids rather than in the cut
+// where both would do (PathPlanSettings::w_travel_cut). The reference is the same plan without
+// that term: the program's external axes, read motion by motion as written, move less in the
+// feed moves, and the program is no slower.
+TEST_CASE("the track and the table reposition in the rapids between pockets, not in the cut",
+          "[post][plan][issue47]") {
+  const Cell cell = test::shipped_cell("andres2011_kr15_track_table");
+  const KrlTemplateSet krl = load_krl_templates(test::source_path("definitions/krl/krc4_lin.xml"));
+  std::mt19937 rng(4747);
+  const auto run = [&](const std::string& apt, double w_travel_cut, ExternalTravel& travel,
+                       const std::string& tag) {
+    PostOptions o;
+    o.plan_settings.w_travel_cut = w_travel_cut;
+    JointVector last;
+    o.on_motion = [&](const MotionSample& m) {
+      if (last.size() == m.q->size()) {
+        const bool cut = !std::isnan(m.feed_mm_per_min);
+        for (int i = 0; i < cell.size(); ++i) {
+          const Joint& j = cell.joint(i);
+          if (j.axis.kind != AxisKind::external || j.type == JointType::virtual_spin)
+            continue;
+          const double d = std::fabs((*m.q)[i] - last[i]);
+          if (j.type == JointType::prismatic)
+            (cut ? travel.track_cut_mm : travel.track_air_mm) += d;
+          else
+            (cut ? travel.table_cut_deg : travel.table_air_deg) += rad_to_deg(d);
+        }
+      }
+      last = *m.q;
+    };
+    return convert(cell, krl, apt, o, tag).summary;
+  };
+  ExternalTravel with_term, without_term;
+  for (int n = 0; n < 3; ++n) {
+    const std::string apt = pockets_along_track(rng);
+    ExternalTravel a, b;
+    const PostSummary s_with = run(apt, 5.0, a, "air");
+    const PostSummary s_without = run(apt, 0.0, b, "cut");
+    INFO("layout " << n << ": with the term track " << a.track_cut_mm << " mm in the cut, "
+                   << a.track_air_mm << " in the air, table " << a.table_cut_deg << " / "
+                   << a.table_air_deg << " deg, " << s_with.cycle_time_s << " s; without: track "
+                   << b.track_cut_mm << " / " << b.track_air_mm << " mm, table " << b.table_cut_deg
+                   << " / " << b.table_air_deg << " deg, " << s_without.cycle_time_s << " s");
+    CHECK(s_with.cycle_time_s <= 1.01 * s_without.cycle_time_s);
+    CHECK(s_with.lowest_inv_condition >= 0.3);
+    with_term.track_cut_mm += a.track_cut_mm;
+    with_term.table_cut_deg += a.table_cut_deg;
+    without_term.track_cut_mm += b.track_cut_mm;
+    without_term.table_cut_deg += b.table_cut_deg;
+    CHECK(a.track_cut_mm + a.track_air_mm > 300.0);  // the track moves: 4 to 6 pockets
+  }
+  // Measured: the track 120 mm in the cut against 320 without the term, the table 9 deg against
+  // 18 (a lattice step is 40 mm and 3 deg), the cycle time within 0.04 %.
+  INFO("in the cut, with the term: track "
+       << with_term.track_cut_mm << " mm, table " << with_term.table_cut_deg << " deg; without: "
+       << without_term.track_cut_mm << " mm, " << without_term.table_cut_deg << " deg");
+  CHECK(without_term.track_cut_mm >= 200.0);  // else the layouts test nothing
+  CHECK(with_term.track_cut_mm <= 0.5 * without_term.track_cut_mm);
+  CHECK(with_term.table_cut_deg <= without_term.table_cut_deg);
 }

@@ -30,7 +30,10 @@ struct PlanKeyframe {
   TcpTarget target;
   double s_mm = 0.0;
   double speed_mm_s = 0.0;
-  bool rapid = false;  // on a rapid (written as a PTP)
+  bool rapid = false;  // on a rapid written as a PTP (above a clearance plane)
+  // The path from the previous keyframe to this one is all rapid traverse (PTP or LIN): an
+  // external axis moved here does not move in the cut (PathPlanSettings::w_travel_cut).
+  bool in_air = false;
   int cl_line = 0;
 };
 
@@ -71,8 +74,16 @@ struct PathPlanSettings {
   // ... of arm axis motion: the arm's big axes swinging under a straight cut cost stiffness and
   // accuracy (Caro 2014), so the track and the table should carry the path.
   double w_travel_arm = 3.0;
+  // ... of external axis motion on the way to a keyframe not in the air (in the cut, or a feed
+  // move), after the window's first rapid: the heavy axes' dynamics and positioning errors go
+  // into the part, so where a rapid comes, the track and the table change position there rather
+  // than under the cutter (issue 47; docs/redundancy.md). It adds to w_travel. 5: on
+  // swcam_gasket_circles all the track's travel went into the rapids (10 kept
+  // nx_kontur_nar_40_circle's arm at 1/kappa_F 0.275).
+  double w_travel_cut = 5.0;
   double w_time = 20.0;  // per second the axes need beyond the time the feed gives
-  // Rapids are PTPs at this share of each axis's velocity limit (BAS (#VEL_PTP, n)): their
+  // Rapids above a clearance plane are PTPs at this share of each axis's velocity limit
+  // (BAS (#VEL_PTP, n)): their
   // time is the slowest axis's, all of it weighed by w_time (the time model's synchronous PTP,
   // docs/timing.md), since it is the posture, not the CL file, that sets it.
   double rapid_velocity_fraction = 1.0;
@@ -175,7 +186,7 @@ class PathPlanner {
   double compliance_cost(const JointVector& q, const Eigen::Vector3d& feed_B,
                          const Eigen::Vector3d& z_B) const;
   double edge_cost(const PlanKeyframe& from, const PlanKeyframe& to, const JointVector& q0,
-                   const JointVector& q1) const;
+                   const JointVector& q1, bool price_cut) const;
   double reversal_cost(const LatticeNode& a, const LatticeNode& b) const;
   double reposition_cost(const JointVector& standing, const JointVector& q) const;
   LatticeDpSettings dp_settings(int beam, const PlanHistory* history) const;
@@ -192,8 +203,9 @@ class PathPlanner {
   // Per joint: travel weight over the velocity limit (0: no limit known), 1 / (margin * limit),
   // and whether it is an arm joint (its step between keyframes is bounded).
   std::array<double, kMaxJoints> travel_per_unit_{}, need_per_unit_{};
-  std::bitset<kMaxJoints> arm_;  // chain indices of the sampled joints
-  std::vector<int> timed_;       // the arm's joints and those with a speed
+  std::array<double, kMaxJoints> cut_per_unit_{};  // w_travel_cut over the limit (external axes)
+  std::bitset<kMaxJoints> arm_;                    // chain indices of the sampled joints
+  std::vector<int> timed_;                         // the arm's joints and those with a speed
   double max_arm_step_rad_ = 0.0;
   std::array<double, kMaxFreeJoints> step_{};    // lattice step per free joint (DH units)
   std::array<bool, kMaxFreeJoints> external_{};  // a real axis (not the tool's spin)
