@@ -10,6 +10,7 @@
 #include "post/session_impl.hpp"
 #include "redpost/io/error.hpp"
 #include "redpost/kinematics/tool_axis.hpp"
+#include "redpost/post/plan_time.hpp"
 
 namespace redpost {
 
@@ -489,29 +490,12 @@ void PostSession::Impl::rapid_piece(const Eigen::Vector3d& p_mm, const Eigen::Ve
 }
 
 // A PTP moves every axis from q0 to q1 on the straight line in joint space (KUKA's synchronous
-// PTP: all axes start and stop together, with the same profile). Its TCP path is checked at
-// steps of at most half a degree (or half a millimetre) of the axis that moves most.
+// PTP: all axes start and stop together, with the same profile): its TCP path must stay above
+// the plane (post/plan_time.hpp, whose estimate asks the same).
 bool PostSession::Impl::ptp_stays_above(const JointVector& q0, const JointVector& q1,
                                         const ClearancePlane& plane) {
-  double largest = 0.0;
-  for (int i = 0; i < active_cell->size(); ++i) {
-    const double d = std::fabs(q1[i] - q0[i]);
-    largest =
-        std::max(largest, active_cell->joint(i).type == JointType::prismatic ? d / 0.5
-                                                                             : rad_to_deg(d) / 0.5);
-  }
-  const int samples = std::max(16, static_cast<int>(std::ceil(largest)));
-  const Isometry T_part_B = o.T_B_part.inverse();
-  JointVector q = q0;
-  for (int k = 1; k < samples; ++k) {
-    const double s = static_cast<double>(k) / samples;
-    for (int i = 0; i < active_cell->size(); ++i)
-      q[i] = q0[i] + s * (q1[i] - q0[i]);
-    forward_kinematics(*active_cell, q, data);
-    if (plane.height(T_part_B * data.T_B_tcp.translation()) < 0.0)
-      return false;
-  }
-  return true;
+  return redpost::ptp_stays_above(*active_cell, q0, q1, o.T_B_part * plane.point,
+                                  o.T_B_part.linear() * plane.normal, data);
 }
 
 void PostSession::Impl::remember_cl(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& axis) {

@@ -71,6 +71,8 @@ struct KeyframeWalk {
   bool rapid_next = false;
   bool rapid_now = false;  // the motion walked is a rapid traverse (PTP or LIN)
   bool ptp_now = false;    // ... written as a PTP (above its clearance plane)
+  Eigen::Vector3d plane_point = Eigen::Vector3d::Zero();  // that plane (CL frame)
+  Eigen::Vector3d plane_normal = Eigen::Vector3d::UnitZ();
   // Where the run of rapids walked began (infinity: none): a keyframe whose previous one is at or
   // after it is reached in the air (PlanKeyframe::in_air).
   double air_since_s = std::numeric_limits<double>::infinity();
@@ -82,6 +84,10 @@ struct KeyframeWalk {
     k.s_mm = s_mm;
     k.speed_mm_s = speed;
     k.rapid = ptp_now;
+    if (ptp_now) {
+      k.clearance_point_B = o.T_B_part * plane_point;
+      k.clearance_normal_B = o.T_B_part.linear() * plane_normal;
+    }
     k.in_air = rapid_now && !kf.empty() && kf.back().s_mm >= air_since_s - kAirGapMm;
     k.cl_line = line;
     return k;
@@ -131,8 +137,9 @@ struct KeyframeWalk {
   // Whether a rapid to e is written as a PTP: both its ends at or above its clearance plane
   // (the cycle's, or --clearance; motion.cpp, rapid_move). One that crosses the plane is split
   // there, partly a LIN: it is taken as a LIN.
-  bool above_plane(const ClEvent& e) const {
-    Eigen::Vector3d point, normal;
+  bool above_plane(const ClEvent& e) {
+    Eigen::Vector3d& point = plane_point;
+    Eigen::Vector3d& normal = plane_normal;
     if (e.has_clearance) {
       point = e.clearance_p_mm;
       normal = e.tool_axis.normalized();

@@ -57,6 +57,28 @@ struct CandidateMotions {
 
 }  // namespace
 
+bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector& q1,
+                     const Eigen::Vector3d& point_B, const Eigen::Vector3d& normal_B,
+                     KinematicsData& data) {
+  double largest = 0.0;
+  for (int i = 0; i < cell.size(); ++i) {
+    const double d = std::fabs(q1[i] - q0[i]);
+    largest = std::max(largest,
+                       cell.joint(i).type == JointType::prismatic ? d / 0.5 : rad_to_deg(d) / 0.5);
+  }
+  const int samples = std::max(16, static_cast<int>(std::ceil(largest)));
+  JointVector q = q0;
+  for (int k = 1; k < samples; ++k) {
+    const double s = static_cast<double>(k) / samples;
+    for (int i = 0; i < cell.size(); ++i)
+      q[i] = q0[i] + s * (q1[i] - q0[i]);
+    forward_kinematics(cell, q, data);
+    if (normal_B.dot(data.T_B_tcp.translation() - point_B) < 0.0)
+      return false;
+  }
+  return true;
+}
+
 PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner,
                                     const ControllerTiming& controller, double blend_mm,
                                     const std::vector<PlanKeyframe>& keyframes,
@@ -114,7 +136,9 @@ PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner
       out.failed_cl_line = e.cl_line;
       return out;
     }
-    if (e.rapid)
+    // A PTP that would dip below its plane is written as a LIN (motion.cpp, rapid_piece).
+    if (e.rapid &&
+        ptp_stays_above(cell, m.q_prev, q_at, e.clearance_point_B, e.clearance_normal_B, m.fk))
       m.ptp(q_at, e.cl_line);
     else
       m.lin(q_at, e.speed_mm_s, e.cl_line);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "redpost/kinematics/cell.hpp"
+#include "redpost/kinematics/forward_kinematics.hpp"
 #include "redpost/redundancy/path_plan.hpp"
 #include "redpost/timing/path_timer.hpp"
 
@@ -33,6 +34,14 @@ struct PlanTimeEstimate {
 // otherwise slow every candidate alike on the unmerged points and hide what tells them apart.
 // approach_from: where the axes stand before a window without a committed start (after a tool
 // change): the approach to q[0] is timed too, as a synchronous PTP; null: not known or none.
+// Whether a synchronous PTP from q0 to q1 (every axis on the straight line in joint space) keeps
+// the TCP at or above the plane through point_B with normal normal_B ({B}): checked at steps of
+// at most half a degree (or half a millimetre) of the axis that moves most, 16 at least. The
+// session writes a rapid as a PTP only where this holds (docs/convert.md, "Rapids").
+bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector& q1,
+                     const Eigen::Vector3d& point_B, const Eigen::Vector3d& normal_B,
+                     KinematicsData& data);
+
 PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner,
                                     const ControllerTiming& controller, double blend_mm,
                                     const std::vector<PlanKeyframe>& keyframes,

@@ -31,6 +31,10 @@ struct PlanKeyframe {
   double s_mm = 0.0;
   double speed_mm_s = 0.0;
   bool rapid = false;  // on a rapid written as a PTP (above a clearance plane)
+  // The plane a rapid's PTP must stay above ({B}): where its joint-space path dips below, the
+  // session writes a LIN instead (post/plan_time.hpp, ptp_stays_above).
+  Eigen::Vector3d clearance_point_B = Eigen::Vector3d::Zero();
+  Eigen::Vector3d clearance_normal_B = Eigen::Vector3d::UnitZ();
   // The path from the previous keyframe to this one is all rapid traverse (PTP or LIN): an
   // external axis moved here does not move in the cut (PathPlanSettings::w_travel_cut).
   bool in_air = false;
