@@ -6,8 +6,9 @@
 // acceleration, nor the motions the point reduction must keep where the axes do not move
 // linearly. The estimate does: the arm solved in closed form at every CL point of the window
 // for the free joints the plan interpolates there, the motions joined as the program joins them
-// (LINs blended at the program's $APO.CDIS, rapids as synchronous PTPs), timed by timing/'s
-// PathTimer with the template set's controller.
+// (LINs blended at the program's $APO.CDIS; rapids as synchronous PTPs where the session writes
+// them so, above their clearance plane, else as LINs), timed by timing/'s PathTimer with the
+// template set's controller.
 #pragma once
 
 #include <vector>
@@ -25,15 +26,6 @@ struct PlanTimeEstimate {
   double time_s = 0.0;     // the time model's, from the window's first keyframe to `until_s`
 };
 
-// The window's plan (keyframes and their postures, keyframes[0] the committed start) timed over
-// its motions' ends (`ends`: one per CL motion, in path order, `rapid` on a rapid) up to path
-// length until_s. Within a cutting motion the keyframes are points of it too (an arc's
-// keyframes lie on the arc). blend_mm: the program's blending distance. The controller is
-// taken as given: where the program's point reduction merges dense CL points into longer
-// motions, the caller leaves the interpolation cycle and the look-ahead out of it, which would
-// otherwise slow every candidate alike on the unmerged points and hide what tells them apart.
-// approach_from: where the axes stand before a window without a committed start (after a tool
-// change): the approach to q[0] is timed too, as a synchronous PTP; null: not known or none.
 // Whether a synchronous PTP from q0 to q1 (every axis on the straight line in joint space) keeps
 // the TCP at or above the plane through point_B with normal normal_B ({B}): checked at steps of
 // at most half a degree (or half a millimetre) of the axis that moves most, 16 at least. The
@@ -42,6 +34,16 @@ bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector&
                      const Eigen::Vector3d& point_B, const Eigen::Vector3d& normal_B,
                      KinematicsData& data);
 
+// The window's plan (keyframes and their postures, keyframes[0] the committed start) timed over
+// its motions' ends (`ends`: one per CL motion, in path order, `rapid` on a rapid written as a
+// PTP, `in_air` on any rapid) up to path length until_s. Within a cutting motion the keyframes
+// are points of it too (an arc's keyframes lie on the arc). blend_mm: the program's blending
+// distance. The controller is taken as given: where the program's point reduction merges dense CL
+// points into longer motions, the caller leaves the interpolation cycle and the look-ahead out of
+// it, which would otherwise slow every candidate alike on the unmerged points and hide what tells
+// them apart.
+// approach_from: where the axes stand before a window without a committed start (after a tool
+// change): the approach to q[0] is timed too, as a synchronous PTP; null: not known or none.
 PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner,
                                     const ControllerTiming& controller, double blend_mm,
                                     const std::vector<PlanKeyframe>& keyframes,
