@@ -10,6 +10,9 @@ namespace redpost {
 
 namespace {
 
+// Samples of a PTP's path at most, where the estimate asks whether it stays above its plane.
+constexpr int kEstimatePtpSamples = 64;
+
 // In line: directions within 0.5 deg (the cosine).
 const double kInLineCos = std::cos(deg_to_rad(0.5));
 
@@ -59,14 +62,15 @@ struct CandidateMotions {
 
 bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector& q1,
                      const Eigen::Vector3d& point_B, const Eigen::Vector3d& normal_B,
-                     KinematicsData& data) {
+                     KinematicsData& data, int max_samples) {
   double largest = 0.0;
   for (int i = 0; i < cell.size(); ++i) {
     const double d = std::fabs(q1[i] - q0[i]);
     largest = std::max(largest,
                        cell.joint(i).type == JointType::prismatic ? d / 0.5 : rad_to_deg(d) / 0.5);
   }
-  const int samples = std::max(16, static_cast<int>(std::ceil(largest)));
+  const int samples = std::max(
+      16, static_cast<int>(std::min(std::ceil(largest), static_cast<double>(max_samples))));
   JointVector q = q0;
   for (int k = 1; k < samples; ++k) {
     const double s = static_cast<double>(k) / samples;
@@ -137,8 +141,8 @@ PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner
       return out;
     }
     // A PTP that would dip below its plane is written as a LIN (motion.cpp, rapid_piece).
-    if (e.rapid &&
-        ptp_stays_above(cell, m.q_prev, q_at, e.clearance_point_B, e.clearance_normal_B, m.fk))
+    if (e.rapid && ptp_stays_above(cell, m.q_prev, q_at, e.clearance_point_B, e.clearance_normal_B,
+                                   m.fk, kEstimatePtpSamples))
       m.ptp(q_at, e.cl_line);
     else
       m.lin(q_at, e.speed_mm_s, e.cl_line);

@@ -11,6 +11,7 @@
 // template set's controller.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "redpost/kinematics/cell.hpp"
@@ -28,11 +29,14 @@ struct PlanTimeEstimate {
 
 // Whether a synchronous PTP from q0 to q1 (every axis on the straight line in joint space) keeps
 // the TCP at or above the plane through point_B with normal normal_B ({B}): checked at steps of
-// at most half a degree (or half a millimetre) of the axis that moves most, 16 at least. The
-// session writes a rapid as a PTP only where this holds (docs/convert.md, "Rapids").
+// at most half a degree (or half a millimetre) of the axis that moves most, 16 at least and
+// max_samples at most. The session writes a rapid as a PTP only where this holds
+// (docs/convert.md, "Rapids"), checked at every step; the estimate below, which asks it for
+// every candidate plan of a window, at 64 (a PTP that moves the track 3 m would otherwise cost
+// it 6000 forward kinematics per candidate).
 bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector& q1,
                      const Eigen::Vector3d& point_B, const Eigen::Vector3d& normal_B,
-                     KinematicsData& data);
+                     KinematicsData& data, int max_samples = std::numeric_limits<int>::max());
 
 // The window's plan (keyframes and their postures, keyframes[0] the committed start) timed over
 // its motions' ends (`ends`: one per CL motion, in path order, `rapid` on a rapid written as a
