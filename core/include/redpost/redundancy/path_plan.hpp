@@ -4,9 +4,10 @@
 // cheapest sequence is found by dynamic programming over the layers (lattice_dp.hpp). Node cost:
 // the arm's centring, the margin to every joint limit and the arm's conditioning 1/kappa_F (and
 // Caro's compliance under the stiff preset). Edge cost: the axis travel in seconds at each axis's
-// speed limit, the time the axes would need beyond the time the feed gives (on a rapid, the whole
-// PTP time), and a price for each turn back of an external axis (issue 47). The tracker then
-// follows the planned joints, the external axes exactly (Tracker::follow).
+// speed limit (more for an external axis in the cut after a rapid, where it could have moved in
+// the air), the time the axes would need beyond the time the feed gives (on a rapid written as a
+// PTP, the whole PTP time), and a price for each turn back of an external axis (issue 47). The
+// tracker then follows the planned joints, the external axes exactly (Tracker::follow).
 #pragma once
 
 #include <array>
@@ -87,9 +88,9 @@ struct PathPlanSettings {
   double w_travel_cut = 5.0;
   double w_time = 20.0;  // per second the axes need beyond the time the feed gives
   // Rapids above a clearance plane are PTPs at this share of each axis's velocity limit
-  // (BAS (#VEL_PTP, n)): their
-  // time is the slowest axis's, all of it weighed by w_time (the time model's synchronous PTP,
-  // docs/timing.md), since it is the posture, not the CL file, that sets it.
+  // (BAS (#VEL_PTP, n)): their time is the slowest axis's, all of it weighed by w_time (the time
+  // model's synchronous PTP, docs/timing.md), since it is the posture, not the CL file, that sets
+  // it. Other rapids are LINs at their speed, weighed as feed moves.
   double rapid_velocity_fraction = 1.0;
   // Per turn back of an external axis (the track, the table; not the tool's spin).
   double w_reversal = 2.0;
