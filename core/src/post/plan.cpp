@@ -32,6 +32,13 @@ constexpr std::size_t kMaxDeferred = 20000;
 constexpr double kTurnDeg = 5.0;
 // A keyframe this close to a rapid's end stands for it (no second keyframe there), mm.
 constexpr double kAirGapMm = 0.5;
+// A feed move within this angle of the tool axis, away from the part, is a retract (deg)...
+constexpr double kRetractDeg = 10.0;
+// ... where it is at least this long (mm). A shorter one may stay between the part's walls (NX's
+// 3 mm departures in a pocket, nx_cutcom_load_tool): taken as air there, it gave the centring a
+// free place at every pass's end, and the track went 760 mm in one direction over that job
+// instead of 240 (2026-12-07).
+constexpr double kRetractMinMm = 10.0;
 
 // Caro's criterion for the plan (path_plan.hpp), where the cell's six arm joints have stiffness
 // data: the tool's deflection normal to the feed and the tool axis, c = |n . dX|, under a nominal
@@ -70,11 +77,12 @@ struct KeyframeWalk {
   double feed_mm_s = 0.0;
   bool rapid_next = false;
   bool rapid_now = false;  // the motion walked is a rapid traverse (PTP or LIN)
+  bool air_now = false;    // ... is out of the material: a rapid, or a retract at feed
   bool ptp_now = false;    // ... written as a PTP (above its clearance plane)
   Eigen::Vector3d plane_point = Eigen::Vector3d::Zero();  // that plane (CL frame)
   Eigen::Vector3d plane_normal = Eigen::Vector3d::UnitZ();
-  // Where the run of rapids walked began (infinity: none): a keyframe whose previous one is at or
-  // after it is reached in the air (PlanKeyframe::in_air).
+  // Where the run of air moves walked began (infinity: none): a keyframe whose previous one is at
+  // or after it is reached in the air (PlanKeyframe::in_air).
   double air_since_s = std::numeric_limits<double>::infinity();
 
   PlanKeyframe at(const Eigen::Vector3d& p, const Eigen::Vector3d& z, double s_mm, double speed,
@@ -88,7 +96,8 @@ struct KeyframeWalk {
       k.clearance_point_B = o.T_B_part * plane_point;
       k.clearance_normal_B = o.T_B_part.linear() * plane_normal;
     }
-    k.in_air = rapid_now && !kf.empty() && kf.back().s_mm >= air_since_s - kAirGapMm;
+    k.traverse = rapid_now;
+    k.in_air = air_now && !kf.empty() && kf.back().s_mm >= air_since_s - kAirGapMm;
     k.cl_line = line;
     return k;
   }
@@ -100,9 +109,9 @@ struct KeyframeWalk {
     // the tool fast over little length, and the plan must see the wrist's way through it.
     const double turn = std::acos(std::clamp(z_cl.dot(z1n), -1.0, 1.0));
     const int turns = static_cast<int>(std::ceil(rad_to_deg(turn) / kTurnDeg - 1e-9));
-    // A rapid's ends are keyframes, so that the plan can move the external axes within it and
-    // not in the cut before or after (PathPlanSettings::w_travel_cut).
-    if (rapid_now && !kf.empty() && kf.back().s_mm < s - kAirGapMm) {
+    // An air move's ends are keyframes, so that the plan can move the external axes within it
+    // and not in the cut before or after (PathPlanSettings::w_travel_cut).
+    if (air_now && !kf.empty() && kf.back().s_mm < s - kAirGapMm) {
       kf.push_back(at(p_cl, z_cl, s, speed, line));
       next_kf_s = s + spacing;
     }
@@ -124,7 +133,7 @@ struct KeyframeWalk {
     }
     if (turns > 1 && length <= 0.0)
       kf.push_back(at(p1, z1n, s, speed, line));  // a pure turn: its end
-    if (rapid_now && !kf.empty() && kf.back().s_mm < s + length - kAirGapMm) {
+    if (air_now && !kf.empty() && kf.back().s_mm < s + length - kAirGapMm) {
       kf.push_back(at(p1, z1n, s + length, speed, line));
       next_kf_s = s + length + spacing;
     }
@@ -153,14 +162,30 @@ struct KeyframeWalk {
     return normal.dot(p_cl - point) >= -kOn && normal.dot(e.p_mm - point) >= -kOn;
   }
 
+  // Whether e is a retract at feed: a move that leaves along the tool axis (within kRetractDeg,
+  // the axis fixed, at least kRetractMinMm long), as CAM systems write a departure from the cut.
+  // It moves out of the material whatever the stock. A plunge is not taken as air: it ends in
+  // the cut.
+  bool retract(const ClEvent& e) const {
+    if (e.kind != ClEventKind::move || !e.p_mm.allFinite() || !e.tool_axis.allFinite())
+      return false;
+    const Eigen::Vector3d d = e.p_mm - p_cl;
+    const double length = d.norm();
+    const double n = e.tool_axis.norm();
+    if (length < kRetractMinMm || n < 1e-9 || z_cl.dot(e.tool_axis / n) < std::cos(deg_to_rad(0.1)))
+      return false;
+    return d.dot(z_cl) >= length * std::cos(deg_to_rad(kRetractDeg));
+  }
+
   // The path of one motion call; its end's s.
   double motion(const ClEvent& e) {
-    const bool was_rapid = rapid_now;
+    const bool was_air = air_now;
     rapid_now = e.rapid || rapid_next;
     ptp_now = rapid_now && above_plane(e);
-    if (!rapid_now)
+    air_now = rapid_now || retract(e);
+    if (!air_now)
       air_since_s = std::numeric_limits<double>::infinity();
-    else if (!was_rapid)
+    else if (!was_air)
       air_since_s = s;
     const double speed = rapid_now ? 1000.0 * o.rapid_velocity_m_per_s : feed_mm_s;
     rapid_next = false;

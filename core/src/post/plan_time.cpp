@@ -126,7 +126,7 @@ PlanTimeEstimate estimate_plan_time(const Cell& cell, const PathPlanner& planner
       ++k;
     // A rapid written as a LIN moves the external axes at one rate from end to end: the
     // keyframes inside it are no points of the program.
-    if (!e.rapid && !e.in_air) {
+    if (!e.traverse) {
       for (; k < keyframes.size() && keyframes[k].s_mm < e.s_mm - 1e-6; ++k) {
         m.lin(q[k], e.speed_mm_s, keyframes[k].cl_line);
         p_anchor = keyframes[k].target.p_B_mm;

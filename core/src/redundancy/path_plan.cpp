@@ -49,7 +49,7 @@ void first_range(const Joint& j, double& lo, double& hi) {
   }
 }
 
-// The external axes' travel in the cut is priced (w_travel_cut) after the window's first rapid:
+// The external axes' travel in the cut is priced (w_travel_cut) after the window's first air move:
 // what they do there they could have done in that rapid, or do in the next. Before it (a window
 // that starts in a pass, the program's first pass, a long pass) there is no such place in view,
 // and the track carries the path as the centring asks. The first keyframe reached in the air;

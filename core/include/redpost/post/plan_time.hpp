@@ -40,7 +40,7 @@ bool ptp_stays_above(const Cell& cell, const JointVector& q0, const JointVector&
 
 // The window's plan (keyframes and their postures, keyframes[0] the committed start) timed over
 // its motions' ends (`ends`: one per CL motion, in path order, `rapid` on a rapid written as a
-// PTP, `in_air` on any rapid) up to path length until_s. Within a cutting motion the keyframes
+// PTP, `traverse` on any rapid) up to path length until_s. Within a cutting motion the keyframes
 // are points of it too (an arc's keyframes lie on the arc). blend_mm: the program's blending
 // distance. The controller is taken as given: where the program's point reduction merges dense CL
 // points into longer motions, the caller leaves the interpolation cycle and the look-ahead out of

@@ -36,8 +36,11 @@ struct PlanKeyframe {
   // session writes a LIN instead (post/plan_time.hpp, ptp_stays_above).
   Eigen::Vector3d clearance_point_B = Eigen::Vector3d::Zero();
   Eigen::Vector3d clearance_normal_B = Eigen::Vector3d::UnitZ();
-  // The path from the previous keyframe to this one is all rapid traverse (PTP or LIN): an
-  // external axis moved here does not move in the cut (PathPlanSettings::w_travel_cut).
+  // On a rapid traverse, written as a PTP or as a LIN at the rapid speed.
+  bool traverse = false;
+  // The path from the previous keyframe to this one is out of the material: all rapid
+  // traverse, or a retract at feed along the tool axis. An external axis moved here does not
+  // move in the cut (PathPlanSettings::w_travel_cut).
   bool in_air = false;
   int cl_line = 0;
 };
