@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libtinyxml2-dev libfmt-dev libcli11-dev tcl8.6-dev libnlopt-cxx-dev
     catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time python3
     chromium chromium-driver libjs-three valgrind clang libclang-rt-dev libfcl-dev libqhull-dev
+    libxml2-utils
 )
 
 missing=()

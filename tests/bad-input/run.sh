@@ -73,6 +73,16 @@ printf 'PARTNO/NUL\nUNITS/MM\nLOADTL/1\nINSERT/A\000BCD\nGOTO/-100,-300,100\n' >
 { cat "$SRC/definitions/cells/andres2011_kr15_track_table.xml"; printf '<cell name="second"/>\n'; } \
   >"$GEN/two_roots_cell.xml"
 printf 'plane,distance,x,y,z,a,b,c,q1,q2\n' | cat - "$GEN/pocket_arcs.apt.gz" >"$GEN/garbage.csv"
+# XML the standard refuses and tinyxml2 would read (issue 48): a comment holding "--" in a cell,
+# a bare '&' in a template set, a '<' in a cutting file's value, an undefined entity in a job.
+sed '0,/<!-- Collision bodies/s//<!-- Collision -- bodies/' \
+  "$SRC/definitions/cells/andres2011_kr15_track_table.xml" >"$GEN/comment_dd_cell.xml"
+sed 's/<krl-templates name="krc4_lin"/<krl-templates name="krc4 \& lin"/' \
+  "$SRC/definitions/krl/krc4_lin.xml" >"$GEN/bare_amp_krl.xml"
+sed 's/<operation name="AB"/<operation name="A<B"/' \
+  "$SRC/examples/placement/caro2014_cutting.xml" >"$GEN/lt_in_value_cutting.xml"
+sed '0,/<placement_job /s//<placement_job note="\&nbsp;" /' \
+  "$SRC/examples/placement/caro2014_job.xml" >"$GEN/entity_job.xml"
 # An unreadable file (chmod 000 does not stop root: those cases are skipped as root).
 cp "$SRC/examples/cl/pocket_arcs.apt" "$GEN/unreadable.apt"
 chmod 000 "$GEN/unreadable.apt"

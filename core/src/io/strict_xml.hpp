@@ -8,12 +8,23 @@
 
 #include <cctype>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "redpost/io/error.hpp"
 
 namespace redpost::detail {
+
+struct XmlProblem {
+  int line = 0;
+  std::string what;
+};
+
+// The first thing in `text` that the XML standard refuses and tinyxml2 reads without a word: a
+// comment that holds "--" (or ends in "--->"), a '<' in an attribute value, a bare '&' or an
+// entity XML does not define without a DTD (io/xml_lexical.cpp). Nothing: none found.
+std::optional<XmlProblem> find_xml_lexical_problem(std::string_view text);
 
 class StrictXml {
  public:
@@ -51,7 +62,8 @@ class StrictXml {
   }
 
   // Parses `text` into `doc` and returns its root element, which must be <root_name>. An empty
-  // file, XML that is not well-formed, or another root is an error at its line.
+  // file, XML that is not well-formed (by the standard, not only by tinyxml2), or another root
+  // is an error at its line.
   const tinyxml2::XMLElement* parse(tinyxml2::XMLDocument& doc, const std::string& text,
                                     const char* root_name) const {
     const std::string empty = std::string("empty file: no <") + root_name + "> element";
@@ -72,6 +84,8 @@ class StrictXml {
         what += " (" + full.substr(detail + 2) + ")";
       fail(doc.ErrorLineNum(), "not well-formed XML: " + what);
     }
+    if (const std::optional<XmlProblem> p = find_xml_lexical_problem(text))
+      fail(p->line, p->what);
     const tinyxml2::XMLElement* root = doc.RootElement();
     if (!root)
       fail(0, empty);

@@ -549,6 +549,47 @@ TEST_CASE("cell_xml: malformed XML reports tinyxml2's line") {
   }
 }
 
+// Issue 48: what the XML standard refuses and tinyxml2 reads without a word (io/xml_lexical.cpp).
+// Each case is checked against xmllint by tests/xml/test_wellformed.sh as well.
+TEST_CASE("cell_xml: XML that tinyxml2 takes but the standard refuses, at its line") {
+  SECTION("a comment holding two hyphens in a row") {
+    const std::string c = "<!-- use --lock E1 here -->";
+    expect_bad(with_extra(c), c, "a comment holds '--'");
+  }
+  SECTION("a comment ending in three hyphens") {
+    const std::string c = "<!-- the end --->";
+    expect_bad(with_extra(c), c, "a comment holds '--'");
+  }
+  SECTION("the second line of a comment holds them") {
+    const std::string doc = with_extra("<!-- first line\n  second -- line -->");
+    expect_bad(doc, "second -- line", "a comment holds '--'");
+  }
+  SECTION("a bare ampersand in an attribute") {
+    const std::string h = R"(<home value="1&2"/>)";
+    expect_bad(with(kJ1Home, h), h, "a bare '&'");
+  }
+  SECTION("an entity XML does not define") {
+    const std::string b = R"(<cell name="mini&nbsp;cell" format="1" dh="standard">)";
+    expect_bad(with(R"(<cell name="mini" format="1" dh="standard">)", b), b,
+               "the entity '&nbsp;' is not defined");
+  }
+  SECTION("a '<' in an attribute value") {
+    const std::string b = R"(<cell name="a<b" format="1" dh="standard">)";
+    expect_bad(with(R"(<cell name="mini" format="1" dh="standard">)", b), b, "not well-formed XML");
+  }
+}
+
+TEST_CASE("cell_xml: what the standard allows stays allowed") {
+  // '&', '<' and single hyphens in a comment, the predefined entities and character references
+  // in a value: all read as XML reads them.
+  const std::string doc =
+      with(R"(<cell name="mini" format="1" dh="standard">)",
+           R"(<cell name="m&amp;i&#110;&#x69;&lt;&gt;&quot;&apos;" format="1" dh="standard">)",
+           with_extra("<!-- a & b < c - d, -x- -->"));
+  const Cell cell = parse_cell(doc, "ok.xml");
+  CHECK(cell.name == "m&ini<>\"'");
+}
+
 TEST_CASE("cell_xml: the root element must be <cell>") {
   std::string doc = with(R"(<cell name="mini" format="1" dh="standard">)",
                          R"(<robot name="mini" format="1" dh="standard">)");
