@@ -187,11 +187,15 @@ bool Comparer::measure_path(const DiffPose& p, bool in_b) {
   const PathWindow& to = *paths_[in_b ? 0 : 1];
   if (!p.on_cartesian_path() || to.empty())
     return false;
-  const PathWindow::Nearest n = to.nearest({p.xyz, p.abc, false, p.seq});
+  // A segment within a tenth of the tolerance ends the search (PathWindow::nearest): the
+  // distance is then at most that, which the tolerance does not tell from the least.
+  const PathWindow::Nearest n = to.nearest({p.xyz, p.abc, false, p.seq}, 0.1 * opt_.path_tol_mm);
   KrlQuantityStats& sp = r_.statistics[static_cast<size_t>(KrlQuantity::path)];
   KrlQuantityStats& so = r_.statistics[static_cast<size_t>(KrlQuantity::path_orientation)];
   ++sp.compared;
   sp.sum += n.distance_mm;
+  r_.path_capped += n.capped ? 1 : 0;
+  r_.path_examined += n.examined;
   if (n.distance_mm > r_.path_distance_mm || (!n.exact && r_.path_exact)) {
     r_.path_distance_mm = std::max(r_.path_distance_mm, n.distance_mm);
     r_.path_exact = r_.path_exact && n.exact;
@@ -205,7 +209,10 @@ bool Comparer::measure_path(const DiffPose& p, bool in_b) {
     ++sp.over_tolerance;
     if (opt_.as_curves) {
       summarise({KrlQuantity::path, n.distance_mm,
-                 fmt::format("{}{:.6g} mm from the other path", n.exact ? "" : "more than ",
+                 fmt::format("{}{:.6g} mm from the other path",
+                             !n.exact   ? "more than "
+                             : n.capped ? "at most "
+                                        : "",
                              n.distance_mm)},
                 a, b);
     }

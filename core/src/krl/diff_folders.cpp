@@ -56,6 +56,8 @@ void merge(KrlDiffResult& total, const KrlDiffResult& r, const KrlDiffOptions& o
       --total.difference_count;  // one program-wide difference, counted once
     }
   }
+  total.path_capped += r.path_capped;
+  total.path_examined += r.path_examined;
   if (r.path_distance_mm > total.path_distance_mm || !r.path_exact) {
     if (r.path_distance_mm >= total.path_distance_mm) {
       total.path_distance_mm = r.path_distance_mm;

@@ -14,6 +14,8 @@ namespace redpost::krl {
 namespace {
 
 constexpr int kMaxRings = 3;  // the search goes this many cells out before it gives up
+// The cells of the outermost shell searched: 7^3 - 5^3.
+constexpr std::size_t kShellCells = 218;
 
 bool finite3(const std::array<double, 3>& v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
@@ -69,23 +71,57 @@ void PathWindow::for_each_cell(std::uint64_t id, bool segment, Visit&& visit) co
   }
 }
 
+bool PathWindow::same_segment(std::uint64_t a, std::uint64_t b) const {
+  const PathPoint& a0 = point(a);
+  const PathPoint& a1 = has_segment(a) ? point(a + 1) : a0;
+  const PathPoint& b0 = point(b);
+  const PathPoint& b1 = has_segment(b) ? point(b + 1) : b0;
+  const auto same = [](const PathPoint& x, const PathPoint& y) {
+    // NaN orientations (not known) compare unequal: such entries are never merged.
+    return x.xyz == y.xyz && x.abc == y.abc;
+  };
+  return (same(a0, b0) && same(a1, b1)) || (same(a0, b1) && same(a1, b0));
+}
+
+// An entry that stands for the same segment as one of the cell's last kDedupDepth replaces it:
+// the older id leaves the list and the newer goes to its end, so that the ids stay ascending and
+// the place stays in the grid until its newest segment leaves the window. A point put in alone
+// becomes its segment when the next point comes; the segment holds the point, so nothing that
+// the older entry stood for is lost.
 void PathWindow::insert(std::uint64_t id, bool segment) {
   for_each_cell(id, segment, [&](const Cell& c) {
-    std::vector<std::uint64_t>& v = grid_[c];
-    if (v.empty() || v.back() != id)
-      v.push_back(id);
+    CellIds& cell = grid_[c];
+    std::vector<std::uint64_t>& v = cell.ids;
+    if (cell.live() > 0 && v.back() == id)
+      return;
+    const std::size_t stop = v.size() - std::min<std::size_t>(cell.live(), kDedupDepth);
+    for (std::size_t k = v.size(); k-- > stop;) {
+      if (same_segment(v[k], id)) {
+        v.erase(v.begin() + static_cast<std::ptrdiff_t>(k));
+        break;
+      }
+    }
+    v.push_back(id);
   });
 }
 
-// The oldest point leaves: ids go into a cell in ascending order, so it is the cell's first.
+// The oldest point leaves: ids go into a cell in ascending order, so it is the cell's first
+// (unless a newer entry replaced it, then it is there no more).
 void PathWindow::remove(std::uint64_t id, bool segment) {
   for_each_cell(id, segment, [&](const Cell& c) {
     const auto it = grid_.find(c);
-    if (it == grid_.end() || it->second.empty() || it->second.front() != id)
+    if (it == grid_.end())
       return;
-    it->second.erase(it->second.begin());
-    if (it->second.empty())
+    CellIds& cell = it->second;
+    if (cell.live() == 0 || cell.ids[cell.head] != id)
+      return;
+    ++cell.head;
+    if (cell.live() == 0) {
       grid_.erase(it);
+    } else if (2 * cell.head > cell.ids.size()) {
+      cell.ids.erase(cell.ids.begin(), cell.ids.begin() + static_cast<std::ptrdiff_t>(cell.head));
+      cell.head = 0;
+    }
   });
 }
 
@@ -119,7 +155,7 @@ void PathWindow::rebuild() {
   }
 }
 
-PathWindow::Nearest PathWindow::nearest(const PathPoint& q) const {
+PathWindow::Nearest PathWindow::nearest(const PathPoint& q, double enough_mm) const {
   Nearest best;
   best.distance_mm = std::numeric_limits<double>::infinity();
   best.orientation_deg = std::numeric_limits<double>::quiet_NaN();
@@ -129,43 +165,94 @@ PathWindow::Nearest PathWindow::nearest(const PathPoint& q) const {
   const Cell c0 = cell_of(q.xyz);
   std::uint64_t best_id = first_id_;
   double best_t = 0.0;
-  for (int r = 0; r <= kMaxRings; ++r) {
-    // The shell of cells at Chebyshev distance r from the query's cell.
+  // A segment this near ends the search: none can be nearer by more.
+  const double enough = std::max(enough_mm, kOnPathMm);
+  bool done = false;
+  std::size_t examined = 0;
+  // One cell's segments, from the entry of the query's own motion number outwards: a program
+  // compared with itself, or with one that differs here and there, meets its partner first.
+  const auto scan = [&](const CellIds& cell) {
+    const auto first = cell.ids.begin() + static_cast<std::ptrdiff_t>(cell.head);
+    const auto mid =
+        std::lower_bound(first, cell.ids.end(), q.seq,
+                         [&](std::uint64_t id, std::uint64_t seq) { return point(id).seq < seq; });
+    auto up = mid, down = mid;
+    while (!done && (up != cell.ids.end() || down != first)) {
+      if (examined++ == kMaxExamined) {
+        best.capped = done = true;
+        break;
+      }
+      const bool take_up = up != cell.ids.end() && (down == first || up - mid <= mid - down);
+      const std::uint64_t id = take_up ? *up++ : *--down;
+      const Eigen::Vector3d a = vec(point(id).xyz);
+      const Eigen::Vector3d b = has_segment(id) ? vec(point(id + 1).xyz) : a;
+      const Eigen::Vector3d ab = b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0.0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      const double d = (a + t * ab - x).norm();
+      if (d < best.distance_mm) {
+        best.distance_mm = d;
+        best_id = id;
+        best_t = t;
+        done = d <= enough;
+      }
+    }
+  };
+  // The distance from the query to a cell's box.
+  const auto box_distance = [&](const Cell& c) {
+    double d2 = 0.0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const double lo = static_cast<double>(c[i]) * h_, hi = lo + h_;
+      const double out = std::max(
+          {0.0, lo - x[static_cast<Eigen::Index>(i)], x[static_cast<Eigen::Index>(i)] - hi});
+      d2 += out * out;
+    }
+    return std::sqrt(d2);
+  };
+  // A segment has a point put in a cell every h/2 along it, so each of its points is within h/4
+  // of a cell it is in: a cell whose box is d away holds nothing nearer than d - h/4.
+  std::array<std::pair<double, const CellIds*>, kShellCells> shell;
+  for (int r = 0; r <= kMaxRings && !done; ++r) {
+    // The shell of cells at Chebyshev distance r from the query's cell, nearest box first.
+    std::size_t n = 0;
     for (std::int64_t dx = -r; dx <= r; ++dx) {
       for (std::int64_t dy = -r; dy <= r; ++dy) {
         for (std::int64_t dz = -r; dz <= r; ++dz) {
           if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != r)
             continue;
-          const auto it = grid_.find({c0[0] + dx, c0[1] + dy, c0[2] + dz});
-          if (it == grid_.end())
-            continue;
-          for (std::uint64_t id : it->second) {
-            const Eigen::Vector3d a = vec(point(id).xyz);
-            const Eigen::Vector3d b = has_segment(id) ? vec(point(id + 1).xyz) : a;
-            const Eigen::Vector3d ab = b - a;
-            const double len2 = ab.squaredNorm();
-            const double t = len2 > 0.0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-            const double d = (a + t * ab - x).norm();
-            if (d < best.distance_mm) {
-              best.distance_mm = d;
-              best_id = id;
-              best_t = t;
-            }
-          }
+          const Cell c{c0[0] + dx, c0[1] + dy, c0[2] + dz};
+          const auto it = grid_.find(c);
+          if (it != grid_.end())
+            shell[n++] = {box_distance(c), &it->second};
         }
       }
     }
-    // Cells further out hold only points at least r h from the query's cell, and segment
-    // points within h/4 of them: nothing there is nearer than r h - h/4.
-    if (best.distance_mm <= r * h_ - 0.25 * h_)
+    std::sort(shell.begin(), shell.begin() + static_cast<std::ptrdiff_t>(n),
+              [](const auto& u, const auto& v) { return u.first < v.first; });
+    for (std::size_t k = 0; k < n && !done; ++k) {
+      if (shell[k].first - 0.25 * h_ >= best.distance_mm)
+        break;
+      scan(*shell[k].second);
+    }
+    // Cells further out are at least r h from the query's cell, and as far from the query as
+    // the nearest face of the block of rings 0..r.
+    double inside = 0.5 * h_;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const double lo = x[static_cast<Eigen::Index>(i)] - static_cast<double>(c0[i]) * h_;
+      inside = std::min({inside, lo, h_ - lo});
+    }
+    const double reach = r * h_ + std::max(inside, 0.0) - 0.25 * h_;
+    if (done || best.distance_mm <= reach)
       break;
     if (r == kMaxRings) {
-      best.exact = std::isfinite(best.distance_mm) && best.distance_mm <= r * h_ - 0.25 * h_;
+      best.exact = std::isfinite(best.distance_mm) && best.distance_mm <= reach;
       if (!best.exact)
-        best.distance_mm = std::min(best.distance_mm, r * h_ - 0.25 * h_);
+        best.distance_mm = std::min(best.distance_mm, reach);
+      best.examined = examined;
       return best;
     }
   }
+  best.examined = examined;
   // The orientation of the path at the nearest point: the segment's end orientations, slerped.
   const PathPoint& a = point(best_id);
   const PathPoint& b = has_segment(best_id) ? point(best_id + 1) : a;

@@ -41,8 +41,24 @@ class PathWindow {
     double distance_mm = 0.0;      // to the nearest segment (or point)
     bool exact = true;             // false: nothing within the search, distance_mm is a lower bound
     double orientation_deg = 0.0;  // against the path's orientation there; NaN: not known
+    // The search met more than kMaxExamined segments that are not duplicates near the query (a
+    // cloud of points, a path that revisits one place with small changes) and stopped there:
+    // distance_mm is the least over those it examined, an upper bound.
+    bool capped = false;
+    std::size_t examined = 0;  // segments the search looked at (the work it did)
   };
-  Nearest nearest(const PathPoint& q) const;
+  // The work is bounded whatever the path's shape (issue 48): a segment equal to one of the last
+  // kDedupDepth in a cell replaces it there (a path that stands at one point, or goes back and
+  // forth over itself, leaves one entry per place, not one per pass), the search ends at the
+  // first segment within kOnPathMm of the query (a program diffed against itself, or against one
+  // that retraces it, finds it in the first cell), and it examines at most kMaxExamined segments
+  // (Nearest::capped).
+  static constexpr int kDedupDepth = 4;
+  static constexpr double kOnPathMm = 1e-9;
+  static constexpr std::size_t kMaxExamined = 256;
+  // enough_mm: a segment this near ends the search (at least kOnPathMm); the distance is then
+  // at most that, not the least.
+  Nearest nearest(const PathPoint& q, double enough_mm = 0.0) const;
   bool empty() const { return points_.empty(); }
   std::size_t size() const { return points_.size(); }
 
@@ -59,12 +75,22 @@ class PathWindow {
   void insert(std::uint64_t id, bool segment);
   void remove(std::uint64_t id, bool segment);
   void rebuild();
+  // Whether the entries a and b stand for the same segment (or point), ends and orientations
+  // equal, either way round.
+  bool same_segment(std::uint64_t a, std::uint64_t b) const;
+
+  // The ids of the points whose segment (or the point alone) passes through a cell, ascending;
+  // those before `head` have left (erasing at the front of a long vector cost its length).
+  struct CellIds {
+    std::vector<std::uint64_t> ids;
+    std::size_t head = 0;
+    std::size_t live() const { return ids.size() - head; }
+  };
 
   std::deque<PathPoint> points_;
   std::uint64_t first_id_ = 0;  // id of points_.front(); ids count every point pushed
   double h_ = 1.0;
-  // cell -> ids of the points whose segment (or the point alone) passes through it, ascending.
-  std::unordered_map<Cell, std::vector<std::uint64_t>, CellHash> grid_;
+  std::unordered_map<Cell, CellIds, CellHash> grid_;
 };
 
 }  // namespace redpost::krl

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "krl/diff_path.hpp"
+
 namespace redpost {
 
 namespace {
@@ -154,6 +156,14 @@ std::string format_krl_diff_text(const KrlDiffResult& r, const KrlDiffOptions& o
         r.path_exact ? "" : "more than ", num(r.path_distance_mm),
         r.path_file.empty() ? "" : ", at " + where(r.path_file, r.path_line, 0), num(o.path_tol_mm),
         o.as_curves ? "" : "; --as-curves compares by it");
+    if (r.path_capped > 0) {
+      out += fmt::format(
+          "paths as curves: {} point{} in a crowd (more than {} segments of the other path near "
+          "them that are not duplicates of each other): the distance there is the least over "
+          "the {} examined, an upper bound\n",
+          r.path_capped, r.path_capped == 1 ? "" : "s", krl::PathWindow::kMaxExamined,
+          krl::PathWindow::kMaxExamined);
+    }
   }
   if (r.unaligned_regions > 0)
     out += fmt::format(
@@ -208,8 +218,11 @@ std::string format_krl_diff_json(const KrlDiffResult& r, const KrlDiffOptions& o
   out += fmt::format(", \"line\": {}}}, \"b\": {{\"file\": ", r.unaligned_line_a);
   json_string(out, r.unaligned_file_b);
   out += fmt::format(", \"line\": {}}}}}, ", r.unaligned_line_b);
-  out += fmt::format("\"path\": {{\"distance_mm\": {}, \"exact\": {}, \"file\": ",
-                     json_number(r.path_distance_mm), r.path_exact ? "true" : "false");
+  out += fmt::format(
+      "\"path\": {{\"distance_mm\": {}, \"exact\": {}, \"capped\": {}, "
+      "\"examined\": {}, \"file\": ",
+      json_number(r.path_distance_mm), r.path_exact ? "true" : "false", r.path_capped,
+      r.path_examined);
   json_string(out, r.path_file);
   out += fmt::format(", \"line\": {}}}, \"summaries\": [", r.path_line);
   for (size_t i = 0; i < r.summaries.size(); ++i) {

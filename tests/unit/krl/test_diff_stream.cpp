@@ -111,6 +111,82 @@ TEST_CASE("diff path window: nearest segment as brute force over the points it h
   CHECK(largest == back + 1);
 }
 
+// Issue 48: the shapes that made the search's work grow with the window (every motion at one
+// point, a path back and forth over itself, a cloud around one point), against brute force
+// over the points the window holds. Exact where the search neither capped nor gave up; an upper
+// bound where it capped; and the number of segments a query examines stays bounded.
+TEST_CASE("diff path window: degenerate shapes against brute force, with bounded work") {
+  std::mt19937 rng(48);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const int shape : {0, 1, 2, 3}) {
+    INFO("shape " << shape << " (0 one point, 1 back and forth, 2 a cloud, 3 both orientations)");
+    krl::PathWindow window(1.0);
+    std::vector<krl::PathPoint> all;
+    const size_t back = 3000;
+    size_t capped = 0, queries = 0;
+    for (std::uint64_t seq = 0; seq < 8000; ++seq) {
+      std::array<double, 3> at{0, 0, 0};
+      std::array<double, 3> abc{0, 90, 0};
+      const double phase = static_cast<double>(seq % 200);
+      if (shape == 1 || shape == 3)
+        at[0] = phase < 100 ? phase * 0.5 : (200 - phase) * 0.5;
+      if (shape == 2)
+        at = {0.01 * u(rng), 0.01 * u(rng), 0.01 * u(rng)};
+      if (shape == 3)
+        abc[2] = seq % 2 == 0 ? 0.0 : 10.0;  // the same places, two orientations: no merging
+      const krl::PathPoint p{at, abc, false, seq};
+      window.push(p);
+      all.push_back(p);
+      if (seq > back)
+        window.drop_before(seq - back);
+      REQUIRE(window.size() == all.size() - (seq > back ? seq - back : 0));
+      if (seq % 37 != 0)
+        continue;
+      const size_t first = seq > back ? static_cast<size_t>(seq - back) : 0;
+      for (int q = 0; q < 2; ++q) {
+        const std::array<double, 3> x{at[0] + 0.3 * u(rng), at[1] + 0.3 * u(rng),
+                                      at[2] + 0.3 * u(rng)};
+        double brute = std::numeric_limits<double>::infinity();
+        for (size_t i = first; i < all.size(); ++i) {
+          const bool segment = i + 1 < all.size() && !all[i + 1].starts_piece;
+          brute =
+              std::min(brute, segment_distance(x, all[i].xyz, segment ? &all[i + 1].xyz : nullptr));
+        }
+        const krl::PathWindow::Nearest n = window.nearest({x, abc, false, seq});
+        ++queries;
+        capped += n.capped ? 1 : 0;
+        if (n.capped)
+          CHECK(n.distance_mm >= brute - 1e-12);  // the least of those examined
+        else if (n.exact)
+          CHECK(n.distance_mm == Approx(brute).margin(1e-12));
+        // A query on the path (a point the window holds) ends at once.
+        const krl::PathWindow::Nearest on = window.nearest({at, abc, false, seq});
+        CHECK(on.distance_mm <= krl::PathWindow::kOnPathMm);
+        CHECK_FALSE(on.capped);
+      }
+    }
+    INFO(capped << " of " << queries << " queries capped");
+    // Only the cloud (no two points alike) crowds the search past its bound.
+    if (shape == 2)
+      CHECK(capped > 0);
+    else
+      CHECK(capped == 0);
+  }
+}
+
+// The search stops at a segment within enough_mm: the distance reported is then at most that.
+TEST_CASE("diff path window: a segment near enough ends the search") {
+  krl::PathWindow window(1.0);
+  for (std::uint64_t seq = 0; seq < 100; ++seq)
+    window.push({{seq * 0.5, 0.0, 0.0}, {0, 90, 0}, false, seq});
+  const std::array<double, 3> x{10.2, 0.00005, 0.0};
+  const krl::PathWindow::Nearest exact = window.nearest({x, {0, 90, 0}, false, 20});
+  CHECK(exact.distance_mm == Approx(0.00005).margin(1e-12));
+  const krl::PathWindow::Nearest enough = window.nearest({x, {0, 90, 0}, false, 20}, 0.0001);
+  CHECK(enough.distance_mm <= 0.0001);
+  CHECK(enough.distance_mm >= exact.distance_mm);
+}
+
 TEST_CASE("diff stream: edits found exactly with a window far smaller than the programs") {
   // Seeded random edits, spaced wider than the window: removed runs, inserted runs, moved
   // points. Every window size, with and without CL lines, must count exactly what was done.

@@ -130,6 +130,11 @@ struct KrlDiffResult {
   std::string path_file;
   int path_line = 0;
   bool path_exact = true;
+  // Points whose distance is an upper bound: near them the other path held more segments that
+  // are not duplicates than the search examines (krl/diff_path.hpp, PathWindow::kMaxExamined).
+  size_t path_capped = 0;
+  // Segments the path searches examined in all (the work per point is bounded: at most 256).
+  size_t path_examined = 0;
   std::array<KrlQuantityStats, kKrlQuantityCount> statistics{};
   // The alignment's window (KrlDiffOptions::window), and the regions where no motion had a
   // partner within it: their first halves were paired in order. The first such region's place.
