@@ -181,13 +181,20 @@ RP_API rp_status rp_linear_move(rp_session* session, double x, double y, double 
                                 double j, double k);
 /* An arc from the current point to (x, y, z) about the axis (ax, ay, az) through the centre
  * (cx, cy, cz), turning by the right-hand rule about the axis (as APT's CIRCLE followed by its
- * GOTO), with the tool axis (i, j, k) at the end. radius_mm 0: taken from the start point. A
- * change of height along the axis makes a helix. Linearised within the chordal tolerance. */
+ * GOTO), with the tool axis (i, j, k) at the end. The axis need not be unit (normalised here;
+ * zero refused). radius_mm is the CL file's radius, a check and nothing more: 0 when not given,
+ * else the start point's distance from the axis must equal it within the arc point tolerance,
+ * and a negative one is refused (RP_ERR_BAD_INPUT, by this call). The arc's radius is always the
+ * start point's distance from the axis; the end must lie on that circle. A change of height
+ * along the axis makes a helix. Linearised within the chordal tolerance. Every coordinate must
+ * be finite and within 1e7 mm. */
 RP_API rp_status rp_circular_move(rp_session* session, double cx, double cy, double cz, double ax,
                                   double ay, double az, double radius_mm, double x, double y,
                                   double z, double i, double j, double k);
 RP_API rp_status rp_operation_start(rp_session* session, const char* name);
 RP_API rp_status rp_operation_end(rp_session* session);
+/* Coolant on (on != 0) or off. mode: the CL file's word (FLOOD, MIST, ...; NULL: none), named in
+ * the program's comment and nothing else: any text. */
 RP_API rp_status rp_coolant(rp_session* session, int on, const char* mode);
 /* A comment in the program (sanitised to one line). */
 RP_API rp_status rp_comment(rp_session* session, const char* text);
@@ -241,7 +248,8 @@ RP_API rp_status rp_machine_frame(rp_session* session, const double* origin, con
 /* A dwell (NX's MOM_delay), 0 to 600 s. */
 RP_API rp_status rp_dwell(rp_session* session, double seconds);
 /* Cutter radius compensation on (side "LEFT", "RIGHT" or "ON") or off: KRL has none, so a warning
- * says that the points are taken as the tool centre. */
+ * says that the points are taken as the tool centre. side is named in that warning and nothing
+ * else (any text, NULL: none). */
 RP_API rp_status rp_cutcom(rp_session* session, int on, const char* side);
 typedef enum rp_text_kind {
   RP_TEXT_INSERT = 0, /* INSERT/, NX's Insert: a comment, or "KRL: statement" as code */

@@ -330,6 +330,63 @@ TEST_CASE("abi toolpath: bad toolpath calls are refused with the line, nothing w
   refused([&](rp_session* s) { return rp_dwell(s, kNaN); }, RP_ERR_BAD_INPUT, "a dwell of");
 }
 
+// Issue 48, item 4: what a call's arguments cannot mean is refused by the call itself, under the
+// default whole-path plan too (which buffers the moves it plans and used to find a bad one only
+// when it came to plan it, with RP_OK for the call).
+TEST_CASE("abi toolpath: arguments that cannot be used are refused by the call, any plan") {
+  const std::string dir = fresh_dir("args");
+  for (const int plan : {RP_PLAN_GLOBAL, RP_PLAN_LOCAL}) {
+    const auto refused = [&](auto&& call, const std::string& fragment) {
+      INFO("plan " << plan << ", expecting: " << fragment);
+      rp_options o = options_for(dir, "args.cls");
+      o.plan = plan;
+      rp_session* s = nullptr;
+      REQUIRE(rp_open(&o, &s) == RP_OK);
+      REQUIRE(rp_set_line(s, 4) == RP_OK);
+      REQUIRE(rp_rapid(s) == RP_OK);
+      REQUIRE(rp_linear_move(s, -100, -450, 110, 0, 0, 1) == RP_OK);
+      REQUIRE(rp_feed(s, 1000) == RP_OK);
+      REQUIRE(rp_set_line(s, 9) == RP_OK);
+      const rp_status st = call(s);
+      INFO(rp_last_error(s));
+      CHECK(st == RP_ERR_BAD_INPUT);
+      CHECK(std::string(rp_last_error(s)).find("args.cls:9: ") != std::string::npos);
+      CHECK(std::string(rp_last_error(s)).find(fragment) != std::string::npos);
+      CHECK(rp_close(s) == RP_ERR_STATE);
+      rp_free(s);
+      CHECK(fs::is_empty(dir));
+    };
+    refused(
+        [](rp_session* s) {
+          return rp_circular_move(s, -100, -440, 110, 0, 0, 1, -12, -100, -430, 110, 0, 0, 1);
+        },
+        "negative radius");
+    refused(
+        [](rp_session* s) {
+          return rp_circular_move(s, -100, -440, kNaN, 0, 0, 1, 0, -100, -430, 110, 0, 0, 1);
+        },
+        "not a finite number");
+    refused(
+        [](rp_session* s) {
+          return rp_circular_move(s, -100, -440, 110, 0, 0, 0, 0, -100, -430, 110, 0, 0, 1);
+        },
+        "axis of zero length");
+    refused([](rp_session* s) { return rp_linear_move(s, -100, kNaN, 110, 0, 0, 1); },
+            "not a finite number");
+    refused([](rp_session* s) { return rp_linear_move(s, -100, -440, 110, 0, 0, 0); },
+            "tool axis of zero length");
+    refused([](rp_session* s) { return rp_feed(s, -5); }, "feed");
+    refused([](rp_session* s) { return rp_feed(s, kNaN); }, "feed");
+    refused([](rp_session* s) { return rp_spindle(s, -100, RP_SPINDLE_CW); }, "spindle");
+    refused([](rp_session* s) { return rp_spindle(s, kNaN, RP_SPINDLE_CW); }, "spindle");
+    refused([](rp_session* s) { return rp_tool_change(s, 3, "T3", -10, 100); }, "diameter");
+    refused([](rp_session* s) { return rp_tool_change(s, 3, "T3", 10, kNaN); }, "length");
+    refused([](rp_session* s) { return rp_tool_change(s, -3, "T3", 10, 100); }, "tool");
+    refused([](rp_session* s) { return rp_dwell(s, -1); }, "dwell");
+    refused([](rp_session* s) { return rp_dwell(s, 601); }, "dwell");
+  }
+}
+
 TEST_CASE("abi toolpath: a reader of the 0.5 kinds writes nothing past arc_axis") {
   const std::string cl = kSource + "/examples/cl/pocket_arcs.apt";
   rp_reader_options ro;

@@ -255,6 +255,14 @@ bool PostSession::defer(const ClEvent& e) {
     }
     if (!(e.tool_axis.norm() > 1e-9))
       throw Error(ErrorCode::bad_input, "a move with a tool axis of zero length", at);
+    // As motion.cpp's circular_move refuses them when the arc is tracked (issue 48: the plan
+    // buffered the arc, and the call that brought it returned RP_OK).
+    if (e.kind == ClEventKind::arc && !(e.arc_axis.norm() > 1e-9))
+      throw Error(ErrorCode::bad_input, "a circular move with an axis of zero length", at);
+    if (e.kind == ClEventKind::arc && e.value < 0.0) {
+      throw Error(ErrorCode::bad_input,
+                  fmt::format("a circular move with a negative radius {} mm", e.value), at);
+    }
     if (e.p_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm ||
         (e.kind == ClEventKind::arc && (e.arc_centre_mm.cwiseAbs().maxCoeff() > kMaxCoordinateMm ||
                                         e.value > kMaxCoordinateMm))) {
