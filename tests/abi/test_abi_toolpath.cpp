@@ -384,6 +384,12 @@ TEST_CASE("abi toolpath: arguments that cannot be used are refused by the call, 
     refused([](rp_session* s) { return rp_tool_change(s, -3, "T3", 10, 100); }, "tool");
     refused([](rp_session* s) { return rp_dwell(s, -1); }, "dwell");
     refused([](rp_session* s) { return rp_dwell(s, 601); }, "dwell");
+    const double knots[] = {0, 0, 0, 1, 1, 1};
+    const double zero_weight[] = {-90, -440, 110, 1, -80, -440, 110, 0, -70, -440, 110, 1};
+    refused([&](rp_session* s) { return rp_nurbs_move(s, knots, 6, zero_weight, 3, 0, 0, 1); },
+            "weight");
+    const double o3[3] = {0, kNaN, 0}, x[3] = {1, 0, 0}, y[3] = {0, 1, 0};
+    refused([&](rp_session* s) { return rp_machine_frame(s, o3, x, y); }, "finite");
   }
 }
 
