@@ -2,9 +2,10 @@
 # Set-up, build, then the main job on a bundled example: a 5-axis finishing pass (NX CLSF) on
 # the Andres track-and-table cell, converted to a KUKA KRL program in out/quickstart/, with its
 # HTML report (plots and the cell in 3D) beside it.
+# Installs and builds only what that needs (scripts/setup.sh --main): no test suite, no browser.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh --main
 out=out/quickstart
 mkdir -p "$out"
 build/plugin/redpost convert examples/cl/surface_5axis.cls \

@@ -1,16 +1,32 @@
 #!/usr/bin/env bash
 # Installs what is missing from Debian's packages (and nothing when all is present), then
-# configures and builds redpost in ./build. Usage: scripts/setup.sh [extra cmake args...]
+# configures and builds redpost in ./build.
+#
+#   scripts/setup.sh [extra cmake args...]          everything: the tests, benchmarks, tools
+#   scripts/setup.sh --main [extra cmake args...]   only what the main job needs: the library,
+#                                                   the CLI and the Tcl package (quickstart.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+mode=full
+if [[ ${1:-} == --main ]]; then
+  mode=main
+  shift
+fi
+
+# The library, the CLI and the Tcl package (and the report's three.js, inlined at build time).
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libtinyxml2-dev libfmt-dev libcli11-dev tcl8.6-dev libnlopt-cxx-dev
-    catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time python3
-    chromium chromium-driver libjs-three valgrind clang libclang-rt-dev libfcl-dev libqhull-dev
-    libxml2-utils
+    libfcl-dev libqhull-dev libjs-three
 )
+# The test suite, its independent peers, the benchmarks and the reliability tools.
+if [[ $mode == full ]]; then
+  packages+=(
+    catch2 liborocos-kdl-dev libbenchmark-dev clang-format locales time python3
+      chromium chromium-driver valgrind clang libclang-rt-dev libxml2-utils
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -29,7 +45,7 @@ if ((${#missing[@]})); then
 fi
 
 # The locale test converts under a German locale (decimal comma) and expects identical bytes.
-if ! locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
+if [[ $mode == full ]] && ! locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
   echo "setup: generating the de_DE.UTF-8 locale for the locale test"
   sudo=""
   if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
@@ -37,5 +53,12 @@ if ! locale -a 2>/dev/null | grep -qi '^de_DE\.utf-\?8$'; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+# Both modes say what they build, so that one after the other in the same build/ does not keep
+# the other's choice.
+if [[ $mode == main ]]; then
+  targets=(-DREDPOST_BUILD_TESTS=OFF -DREDPOST_BUILD_BENCHMARKS=OFF)
+else
+  targets=(-DREDPOST_BUILD_TESTS=ON -DREDPOST_BUILD_BENCHMARKS=ON)
+fi
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${targets[@]}" "$@" >/dev/null
 cmake --build build -j "$jobs"
