@@ -81,7 +81,8 @@ typedef struct rp_options {
   int plan;                   /* RP_PLAN_GLOBAL (default) or RP_PLAN_LOCAL (Algorithm 1 alone) */
   int plan_preset;            /* RP_PLAN_SMOOTH (default), RP_PLAN_STIFF or RP_PLAN_FAST */
   double keyframe_spacing_mm; /* path between the plan's keyframes; default 20 */
-  unsigned lock_mask;         /* bit k set: external axis E(k+1) is held (not planned) */
+  unsigned lock_mask;         /* bit k set: external axis E(k+1) is held (not planned); bits
+                                 6 and up refused (RP_ERR_BAD_INPUT) */
   double lock_value[6];       /* E1..E6 (mm, deg) for a held axis (global plan only); NaN:
                                  where the first pose puts it */
   /* Added in 0.4: the arm's deflection under the cutting forces (docs/deflection.md). The cell

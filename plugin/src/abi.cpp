@@ -102,6 +102,13 @@ void set_plan_options(const rp_options& o, const Cell& cell, PostOptions& post) 
   post.plan_settings.keyframe_spacing_mm = o.keyframe_spacing_mm;
   post.plan_settings.lock_value =
       JointVector::Constant(cell.size(), std::numeric_limits<double>::quiet_NaN());
+  // Bits past E6 name no axis: refused rather than ignored (issue 48).
+  if (o.lock_mask >> 6 != 0u) {
+    throw AbiError{RP_ERR_BAD_INPUT,
+                   fmt::format("options.lock_mask is {:#x}: only bits 0 to 5 (E1 to E6) name an "
+                               "external axis",
+                               o.lock_mask)};
+  }
   for (int k = 0; k < 6; ++k) {
     if (!(o.lock_mask & (1u << k)))
       continue;

@@ -393,6 +393,61 @@ TEST_CASE("abi toolpath: arguments that cannot be used are refused by the call, 
   }
 }
 
+// Issue 48, item 4: rp_open refuses every option value it cannot use, naming it, and opens
+// nothing.
+TEST_CASE("abi toolpath: rp_open refuses option values it cannot use") {
+  const std::string dir = fresh_dir("open_args");
+  int refused_count = 0;
+  const auto refused = [&](const char* what, auto&& set) {
+    INFO("option: " << what);
+    rp_options o = options_for(dir, "open.cls");
+    set(o);
+    rp_session* s = reinterpret_cast<rp_session*>(&o);  // must be set to NULL on failure
+    const rp_status st = rp_open(&o, &s);
+    INFO(rp_last_error(nullptr));
+    CHECK(st == RP_ERR_BAD_INPUT);
+    CHECK(s == nullptr);
+    if (st == RP_OK) {
+      rp_close(s);
+      rp_free(s);
+    }
+    refused_count += st == RP_ERR_BAD_INPUT ? 1 : 0;
+  };
+  refused("apo_mm NaN", [](rp_options& o) { o.apo_mm = kNaN; });
+  refused("apo_mm -1", [](rp_options& o) { o.apo_mm = -1; });
+  refused("chordal_tolerance_mm 0", [](rp_options& o) { o.chordal_tolerance_mm = 0; });
+  refused("chordal_tolerance_mm NaN", [](rp_options& o) { o.chordal_tolerance_mm = kNaN; });
+  refused("rapid_velocity_m_per_s 0", [](rp_options& o) { o.rapid_velocity_m_per_s = 0; });
+  refused("rapid_velocity_m_per_s NaN", [](rp_options& o) { o.rapid_velocity_m_per_s = kNaN; });
+  refused("keyframe_spacing_mm 0", [](rp_options& o) { o.keyframe_spacing_mm = 0; });
+  refused("keyframe_spacing_mm NaN", [](rp_options& o) { o.keyframe_spacing_mm = kNaN; });
+  refused("placement NaN", [](rp_options& o) {
+    o.has_placement = 1;
+    o.placement[2] = kNaN;
+  });
+  refused("clearance NaN", [](rp_options& o) {
+    o.has_clearance = 1;
+    o.clearance_z_mm = kNaN;
+  });
+  refused("motions_per_file -1", [](rp_options& o) { o.motions_per_file = -1; });
+  refused("cl_line_every -1", [](rp_options& o) { o.cl_line_every = -1; });
+  refused("max_file_bytes -1", [](rp_options& o) { o.max_file_bytes = -1; });
+  refused("plan 7", [](rp_options& o) { o.plan = 7; });
+  refused("plan_preset 7", [](rp_options& o) { o.plan_preset = 7; });
+  refused("deflection 7", [](rp_options& o) { o.deflection = 7; });
+  refused("deflection_tolerance_mm -1", [](rp_options& o) { o.deflection_tolerance_mm = -1; });
+  refused("msys 7", [](rp_options& o) { o.msys = 7; });
+  refused("fit_tolerance_mm -1", [](rp_options& o) { o.fit_tolerance_mm = -1; });
+  refused("fit_angle_tolerance_deg NaN", [](rp_options& o) { o.fit_angle_tolerance_deg = kNaN; });
+  refused("plan_threads -1", [](rp_options& o) { o.plan_threads = -1; });
+  refused("collision_margin_mm NaN", [](rp_options& o) { o.collision_margin_mm = kNaN; });
+  refused("collision_margin_mm 2000", [](rp_options& o) { o.collision_margin_mm = 2000; });
+  refused("fixture_count -1", [](rp_options& o) { o.fixture_count = -1; });
+  refused("lock_mask bit 9", [](rp_options& o) { o.lock_mask = 1u << 9; });
+  CHECK(refused_count == 25);
+  CHECK(fs::is_empty(dir));
+}
+
 TEST_CASE("abi toolpath: a reader of the 0.5 kinds writes nothing past arc_axis") {
   const std::string cl = kSource + "/examples/cl/pocket_arcs.apt";
   rp_reader_options ro;
