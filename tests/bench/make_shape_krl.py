@@ -26,13 +26,19 @@ import argparse
 import random
 
 
+def zigzag(n, length, step, spacing, lines, x0, y0):
+    """A raster of lines `length` long along x, points `step` apart, `spacing` apart in y, the
+    direction turning at each line, back to the first after `lines` lines."""
+    per_line = int(round(length / step)) + 1
+    for k in range(n):
+        line, j = divmod(k, per_line)
+        x = j * step if line % 2 == 0 else length - j * step
+        yield (x0 + x, y0 + spacing * (line % lines), 60.0)
+
+
 def points(shape, n):
     if shape == "raster":
-        per_line = 801
-        for k in range(n):
-            line, j = divmod(k, per_line)
-            x = j * 0.5 if line % 2 == 0 else 400.0 - j * 0.5
-            yield (-300.0 + x, -500.0 + 2.0 * (line % 100), 60.0)
+        yield from zigzag(n, 400.0, 0.5, 2.0, 100, -300.0, -500.0)
     elif shape == "point":
         for _ in range(n):
             yield (-100.0, -450.0, 60.0)
@@ -50,11 +56,7 @@ def points(shape, n):
                 step = -step
                 x += 2.0 * step
     elif shape == "finish":
-        per_line = 101
-        for k in range(n):
-            line, j = divmod(k, per_line)
-            x = j * 1.0 if line % 2 == 0 else 100.0 - j * 1.0
-            yield (-150.0 + x, -500.0 + 0.05 * (line % 4000), 60.0)
+        yield from zigzag(n, 100.0, 1.0, 0.05, 4000, -150.0, -500.0)
     else:
         raise SystemExit("unknown shape " + shape)
 

@@ -212,6 +212,13 @@ PathWindow::Nearest PathWindow::nearest(const PathPoint& q, double enough_mm) co
   // A segment has a point put in a cell every h/2 along it, so each of its points is within h/4
   // of a cell it is in: a cell whose box is d away holds nothing nearer than d - h/4.
   std::array<std::pair<double, const CellIds*>, kShellCells> shell;
+  // How far the query lies inside its own cell: to the nearest of its faces.
+  double inside = 0.5 * h_;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double lo = x[static_cast<Eigen::Index>(i)] - static_cast<double>(c0[i]) * h_;
+    inside = std::min({inside, lo, h_ - lo});
+  }
+  inside = std::max(inside, 0.0);
   for (int r = 0; r <= kMaxRings && !done; ++r) {
     // The shell of cells at Chebyshev distance r from the query's cell, nearest box first.
     std::size_t n = 0;
@@ -234,14 +241,9 @@ PathWindow::Nearest PathWindow::nearest(const PathPoint& q, double enough_mm) co
         break;
       scan(*shell[k].second);
     }
-    // Cells further out are at least r h from the query's cell, and as far from the query as
-    // the nearest face of the block of rings 0..r.
-    double inside = 0.5 * h_;
-    for (std::size_t i = 0; i < 3; ++i) {
-      const double lo = x[static_cast<Eigen::Index>(i)] - static_cast<double>(c0[i]) * h_;
-      inside = std::min({inside, lo, h_ - lo});
-    }
-    const double reach = r * h_ + std::max(inside, 0.0) - 0.25 * h_;
+    // Cells further out are at least r h + `inside` from the query (the nearest face of the
+    // block of rings 0..r).
+    const double reach = r * h_ + inside - 0.25 * h_;
     if (done || best.distance_mm <= reach)
       break;
     if (r == kMaxRings) {
