@@ -165,7 +165,8 @@ RP_API void rp_options_init(rp_options* options);
 RP_API rp_status rp_open(const rp_options* options, rp_session** session);
 
 /* The line (or event index) of the events that follow, for messages and the joints log. The
- * session counts events itself; hosts that read a file set the file's line. */
+ * session counts events itself; hosts that read a file set the file's line. 0: the events'
+ * own numbers again; a negative line is refused (RP_ERR_BAD_INPUT, the session goes on). */
 RP_API rp_status rp_set_line(rp_session* session, int line);
 
 /* A tool change to tool `number` of the cell's tool table. diameter_mm and length_mm are the CL
@@ -634,8 +635,9 @@ typedef struct rp_reader_options {
   unsigned struct_size; /* sizeof(rp_reader_options), set by rp_reader_options_init */
   double chordal_tolerance_mm;
   rp_msys_mode msys;
-  int arcs_as_events; /* 1: CIRCLE + GOTO as one RP_EVENT_ARC (a session may write a CIRC) */
-  /* Added in 0.6. 1: the toolpath events as the file gives them (drilling cycles and holes,
+  int arcs_as_events; /* non-zero: CIRCLE + GOTO as one RP_EVENT_ARC (a session may write a
+                         CIRC) */
+  /* Added in 0.6. Non-zero: the toolpath events as the file gives them (drilling cycles and holes,
    * NURBS, MSYS, operator text, CUTCOM, FROM, GODLTA; arcs whole), for rp_session_event to
    * expand in the session, as NX's events are; msys and arcs_as_events are then not used (the
    * session's rp_options.msys is). 0: plain events, expanded by the reader. */
@@ -657,7 +659,10 @@ RP_API const char* rp_reader_last_error(const rp_reader* reader);
 RP_API const char* rp_reader_warning(const rp_reader* reader, int index);
 RP_API void rp_reader_free(rp_reader* reader);
 
-/* Sends one reader event to a session (what `redpost convert` does for every event). */
+/* Sends one reader event to a session (what `redpost convert` does for every event). It is
+ * refused as the call of the same event would be (a kind that is no rp_event_kind, a NaN, a zero
+ * axis, a negative radius, a cycle's struct_size, NULL NURBS arrays, ...), its message and
+ * rp_last_error_line naming the event's own line. */
 RP_API rp_status rp_session_event(rp_session* session, const rp_event* event);
 
 #ifdef __cplusplus

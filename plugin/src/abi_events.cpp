@@ -64,8 +64,16 @@ extern "C" {
 RP_API rp_status rp_set_line(rp_session* session, int line) {
   if (!session)
     return null_handle("the session");
+  // Not an event: a line that cannot be one is refused and the session goes on with the line it
+  // had (a query-like call, as rp_last_move is).
+  if (line < 0) {
+    return guard(session->error, "", [&] {
+      throw AbiError{RP_ERR_BAD_INPUT, "rp_set_line: line " + std::to_string(line) +
+                                           " is negative (0 numbers the events again)"};
+    });
+  }
   session->line = line;
-  session->line_set = true;
+  session->line_set = line > 0;
   return RP_OK;
 }
 

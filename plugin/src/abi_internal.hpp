@@ -12,6 +12,7 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -303,9 +304,16 @@ struct rp_session {
     }
   }
 
-  // One event: counted, refused unless open, failing the session if it throws.
+  // One event: counted, refused unless open, failing the session if it throws. `at_line` is
+  // the CL line the event comes from (rp_session_event: the reader's); -1: the line of
+  // rp_set_line, if any. An argument the ABI refuses is named at that line, as the core names
+  // what it refuses (docs/c-abi.md, "Messages").
   template <class F>
   rp_status event(F&& f) noexcept {
+    return event_at(-1, std::forward<F>(f));
+  }
+  template <class F>
+  rp_status event_at(int at_line, F&& f) noexcept {
     // An earlier event failed on the pipeline's thread: this call tells it.
     if (pipeline && state == State::open) {
       if (const rp_status failed = take_pipeline_failure(); failed != RP_OK)
@@ -331,7 +339,16 @@ struct rp_session {
             "refused because the session is prepared (rp_prepare): only rp_close "
             "or rp_free may follow"};
       }
-      run_noting_line(f);
+      const int where = at_line >= 0 ? at_line : (line_set ? line : 0);
+      try {
+        run_noting_line(f);
+      } catch (redpost::abi::AbiError& refused) {
+        if (where > 0) {
+          error_line = where;
+          refused.message = source + ":" + std::to_string(where) + ": " + refused.message;
+        }
+        throw;
+      }
     });
     if (s != RP_OK && state == State::open) {
       state = State::failed;

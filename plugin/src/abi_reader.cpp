@@ -290,7 +290,7 @@ RP_API void rp_reader_free(rp_reader* reader) {
 RP_API rp_status rp_session_event(rp_session* session, const rp_event* event) {
   if (!session)
     return null_handle("the session");
-  return session->event([&] {
+  return session->event_at(event ? event->line : -1, [&] {
     if (!event)
       throw AbiError{RP_ERR_NULL, "the event is NULL"};
     redpost::ClEvent e;

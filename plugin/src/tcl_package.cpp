@@ -146,7 +146,8 @@ int cmd_linear_move(ClientData cd, Tcl_Interp* interp, int objc, Tcl_Obj* const 
     int line = 0;
     if (get_int(interp, objv[8], "line", &line) != TCL_OK)
       return TCL_ERROR;
-    rp_set_line(s, line);
+    if (const rp_status st = rp_set_line(s, line); st != RP_OK)
+      return session_result(interp, s, st);
   }
   return session_result(interp, s, rp_linear_move(s, v[0], v[1], v[2], v[3], v[4], v[5]));
 }
