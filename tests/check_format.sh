@@ -11,6 +11,6 @@ while IFS= read -r -d '' f; do
   if ! clang-format --style=file --dry-run -Werror "$f" >/dev/null 2>&1; then
     echo "not formatted: $f"; bad=1
   fi
-done < <(find core report plugin tests examples -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.c' -o -name '*.js' \) -print0)
+done < <(find core plugin tests examples -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.c' -o -name '*.js' \) -print0)
 [ "$bad" -eq 0 ] && echo "all C/C++ and JavaScript files are clang-formatted"
 exit "$bad"
