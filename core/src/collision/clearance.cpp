@@ -189,6 +189,7 @@ void ClearanceMonitor::interval(const JointPath& path, int depth, const Node& a,
     if (std::max(a.lb[pu], b.lb[pu]) - fixed < settings_.margin_mm - settings_.resolution_mm) {
       note(out, std::max(a.lb[pu], b.lb[pu]) - fixed, p, m.s, Proximity{});
       out.clear = false;
+      out.unproven = true;  // a bound that cannot close, not a distance found
       continue;
     }
     Proximity where;

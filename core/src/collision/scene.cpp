@@ -198,6 +198,46 @@ bool spins_about_tool_axis(const Cell& cell, int j) {
   return z.cross(z_tcp).norm() < 1e-9 && (o - p).cross(z).norm() < 1e-6;
 }
 
+// Is every shape of `body` round about the axis of joint k, the joint right after the body's
+// frame (a rotary table top about the table's axis)? Then turning joint k moves nothing of the
+// body, and a pair of it with a body that k carries is as far apart at every angle of k
+// (d(A, R_k B) = d(R_k^-1 A, B) = d(A, B)). The axis is fixed in the body's frame (no joint
+// between them); it is checked at two postures all the same.
+bool round_about_next_joint(const Cell& cell, const Body& body, int k) {
+  if (body.frame == kFrameTcp || k != body.frame + 1 || k >= cell.size() ||
+      cell.joint(k).type == JointType::prismatic || body.shapes.empty())
+    return false;
+  const auto axis_in_frame = [&](const JointVector& q, Eigen::Vector3d& p, Eigen::Vector3d& z) {
+    KinematicsData data;
+    forward_kinematics(cell, q, data, true);
+    const Isometry T_B_frame = body.frame == kFrameBase
+                                   ? Isometry::Identity()
+                                   : data.T_B_link[static_cast<std::size_t>(body.frame)];
+    const auto ku = static_cast<std::size_t>(k);
+    z = T_B_frame.linear().transpose() * data.z_B_joint[ku];
+    p = T_B_frame.inverse() * data.p_B_joint[ku];
+  };
+  Eigen::Vector3d p, z, p2, z2;
+  axis_in_frame(cell.home(), p, z);
+  JointVector moved = cell.home();
+  for (int j = 0; j < cell.size(); ++j)
+    moved[j] += 0.3 + 0.1 * j;  // any other posture: DH units, radians or mm alike
+  axis_in_frame(moved, p2, z2);
+  const auto on_axis = [&](const Eigen::Vector3d& x) { return (x - p).cross(z).norm() < 1e-6; };
+  if (z.cross(z2).norm() > 1e-9 || !on_axis(p2))
+    return false;
+  for (const Shape& s : body.shapes) {
+    const Eigen::Vector3d centre = s.T_frame_shape.translation();
+    const Eigen::Vector3d along = s.T_frame_shape.linear().col(2);
+    const bool round = s.kind == ShapeKind::sphere ||
+                       ((s.kind == ShapeKind::cylinder || s.kind == ShapeKind::capsule) &&
+                        along.cross(z).norm() < 1e-9);
+    if (!round || !on_axis(centre))
+      return false;
+  }
+  return true;
+}
+
 // Moller-Trumbore: does the ray from o along d cross the triangle (a, b, c) at t > 0?
 bool ray_hits(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -319,7 +359,11 @@ CollisionScene::CollisionScene(const Cell& cell, std::vector<Body> bodies,
       const auto order = [&](int frame) { return frame == kFrameTcp ? cell.size() : frame; };
       const bool a_first = order(A.frame) <= order(B.frame);
       pair_mover_.push_back(a_first ? b : a);
-      pair_from_.push_back(std::min(order(A.frame), order(B.frame)) + 1);
+      // The first joint that moves the later body against the nearer one, but the nearer one's
+      // own axis where it is round about it: that joint's turn changes no distance.
+      const int from = std::min(order(A.frame), order(B.frame)) + 1;
+      const bool round = round_about_next_joint(cell, a_first ? A : B, from);
+      pair_from_.push_back(round ? from + 1 : from);
     }
   }
   row_ = static_cast<std::size_t>(cell.size()) + 1;

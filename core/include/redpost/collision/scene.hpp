@@ -93,14 +93,18 @@ class CollisionScene {
   // and after (entry 0 its whole motion in {B}, the last 0).
   void motion_bounds(const KinematicsData& data, const ScenePoses& poses, const JointVector& dq,
                      std::vector<double>& from) const;
-  // How far the pair's bodies can move against each other, from motion_bounds' rows: the joints
-  // up to the frame of the body nearer the chain's start move both bodies alike, so only the
-  // later body's motion by the joints after that frame counts (the chain is serial).
+  // How far the pair's distance can change, from motion_bounds' rows: the joints up to the frame
+  // of the body nearer the chain's start move both bodies alike, so only the later body's motion
+  // by the joints after that frame counts (the chain is serial); and where the nearer body is
+  // round about the next joint's axis (a rotary table's top), that joint's turn changes no
+  // distance either, so the motion counts from the joint after it (first_mover).
   double pair_motion(int pair, const std::vector<double>& from) const {
     const auto p = static_cast<std::size_t>(pair);
     return from[static_cast<std::size_t>(pair_mover_[p]) * row_ +
                 static_cast<std::size_t>(pair_from_[p])];
   }
+  // The first joint (chain index) whose motion counts in pair_motion; cell().size(): none.
+  int first_mover(int pair) const { return pair_from_[static_cast<std::size_t>(pair)]; }
 
  private:
   const Cell* cell_;
