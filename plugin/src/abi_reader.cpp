@@ -167,13 +167,15 @@ RP_API rp_status rp_reader_open_ex(const char* path, const rp_reader_options* op
         !why.empty()) {
       throw AbiError{RP_ERR_BAD_INPUT, why};
     }
-    if (o.msys != RP_MSYS_IGNORE && o.msys != RP_MSYS_APPLY)
+    // Read as an int: a host's value outside the enumeration is no rp_msys_mode to load.
+    const int msys = enum_value(o.msys);
+    if (msys != RP_MSYS_IGNORE && msys != RP_MSYS_APPLY)
       throw AbiError{RP_ERR_BAD_INPUT, "msys is not RP_MSYS_IGNORE or RP_MSYS_APPLY"};
     r = std::make_unique<rp_reader>();
     r->in = redpost::open_text_stream(path);
     redpost::ClReaderOptions read;
     read.chordal_tolerance_mm = o.chordal_tolerance_mm;
-    read.msys = o.msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
+    read.msys = msys == RP_MSYS_APPLY ? redpost::MsysMode::apply : redpost::MsysMode::ignore;
     read.arcs_as_events = o.arcs_as_events != 0;
     read.toolpath_events = o.toolpath_events != 0;
     r->toolpath_events = read.toolpath_events;
