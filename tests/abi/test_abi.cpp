@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"  // compiles as C++ too: this file is the check
 #include "temp_dir.hpp"
 
@@ -23,8 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
-const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
+using namespace redpost::abi_test;
 
 // A fresh, empty directory in the temp area, per process (ctest -j runs the cases in parallel).
 std::string fresh_dir(const std::string& name) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"
 #include "temp_dir.hpp"
 
@@ -20,9 +21,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
-const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using namespace redpost::abi_test;
 
 std::string fresh_dir(const std::string& name) {
   return redpost::test::fresh_temp_dir("redpost_abi_arguments", name);
@@ -158,7 +157,6 @@ TEST_CASE("abi arguments: rp_session_event refuses what the call of the same eve
     refused(e, RP_ERR_BAD_INPUT, "control character");
   }
   CHECK(refused_count == 2 * 21);
-  rp_session_event(nullptr, nullptr);
   CHECK(rp_session_event(nullptr, nullptr) == RP_ERR_NULL);
 }
 
@@ -213,8 +211,8 @@ TEST_CASE("abi arguments: the reader refuses options it cannot use and NULL argu
 
 namespace {
 
-// A closed session of a short job with a collision check and the deflection model, so that
-// every query has something to give.
+// A closed session of a short job (the shipped cell's collision bodies checked), so that every
+// query has something to give.
 rp_session* closed_session(const std::string& dir) {
   rp_options o = options_for(dir);
   rp_session* s = nullptr;

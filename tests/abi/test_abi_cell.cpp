@@ -12,12 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"
 #include "temp_dir.hpp"
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
+using namespace redpost::abi_test;
 
 // A rigid transform as a C host holds it: the 3x4 rows of redpost.h and an implicit 0 0 0 1.
 struct Mat4 {

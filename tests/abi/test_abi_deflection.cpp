@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"
 #include "temp_dir.hpp"
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
-const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
+using namespace redpost::abi_test;
 
 void record(const rp_motion* m, void* user) {
   static_cast<std::vector<rp_motion>*>(user)->push_back(*m);

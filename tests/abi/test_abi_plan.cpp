@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"
 #include "temp_dir.hpp"
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
-const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
+using namespace redpost::abi_test;
 
 rp_options options_for(const std::string& dir) {
   rp_options o;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "abi_test_support.hpp"
 #include "redpost.h"
 #include "temp_dir.hpp"
 
@@ -23,9 +24,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kSource = REDPOST_SOURCE_DIR;
-const std::string kCell = kSource + "/definitions/cells/andres2011_kr15_track_table.xml";
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using namespace redpost::abi_test;
 
 std::string fresh_dir(const std::string& name) {
   return redpost::test::fresh_temp_dir("redpost_abi_toolpath", name);

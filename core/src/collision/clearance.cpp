@@ -28,6 +28,15 @@ ClearanceMonitor::ClearanceMonitor(const CollisionScene& scene, const ClearanceS
 
 ClearanceMonitor::~ClearanceMonitor() = default;
 
+ClearanceShortfall shortfall(const MotionClearance& c) {
+  // A least that no distance computation gave (where.exact false) is a bound.
+  if (c.unproven && !c.where.exact)
+    return ClearanceShortfall::unproven;
+  if (c.least_mm <= 0.0)
+    return ClearanceShortfall::touching;
+  return c.unproven ? ClearanceShortfall::unproven : ClearanceShortfall::too_close;
+}
+
 double posture_clearance(const CollisionScene& scene, const JointVector& q, double enough,
                          ScenePoses& poses, KinematicsData& data, int* pair) {
   const Cell& cell = scene.cell();

@@ -220,11 +220,11 @@ void KrlClearanceCheck::State::note(const KrlMotionRecord& m, const MotionCleara
   const char* unproven =
       "cannot be proven to stay apart (the bound of the motion did not close: a joint that jumps "
       "within it?)";
-  // A bound that did not close is no contact found (collision.cpp, collision_fail).
-  const std::string what = !c.where.exact && c.unproven ? std::string(unproven)
-                           : c.least_mm <= 0.0 ? std::string("touch or pass through each other")
-                           : c.unproven        ? std::string(unproven)
-                                               : fmt::format("come within {:.2f} mm", c.least_mm);
+  const ClearanceShortfall why = shortfall(c);
+  const std::string what =
+      why == ClearanceShortfall::touching   ? std::string("touch or pass through each other")
+      : why == ClearanceShortfall::unproven ? std::string(unproven)
+                                            : fmt::format("come within {:.2f} mm", c.least_mm);
   findings.push_back({m.file, m.line,
                       fmt::format("collision: {} {} on this {} ({:g} mm must stay between them)",
                                   pair, what, m.keyword, o.margin_mm)});

@@ -228,14 +228,12 @@ void PostSession::Impl::collision_fail(const MotionClearance& c, KrlMotionKind k
   const char* unproven =
       "cannot be proven to stay apart (no distance computed on it is below the margin, but the "
       "bound of the motion between them did not close: a joint that jumps within it?)";
-  // A least that no distance computation gave (where.exact false) is a bound that did not
-  // close, not a contact: saying "touch" there would send the user after a collision that
-  // nothing has found.
+  const ClearanceShortfall why = shortfall(c);
   const std::string distance =
-      !c.where.exact && c.unproven ? std::string(unproven)
-      : c.least_mm <= 0.0          ? std::string("would touch or pass through each other")
-      : c.unproven                 ? std::string(unproven)
-                   : fmt::format("would come within {:.2f} mm of each other", c.least_mm);
+      why == ClearanceShortfall::touching ? std::string("would touch or pass through each other")
+      : why == ClearanceShortfall::unproven
+          ? std::string(unproven)
+          : fmt::format("would come within {:.2f} mm of each other", c.least_mm);
   throw Error(ErrorCode::unreachable,
               fmt::format("collision: the {} and the {} {} on this {} ({}{}; {:g} mm must stay "
                           "between them, --collision-margin). Try: {}",

@@ -73,6 +73,12 @@ struct MotionClearance {
   long distance_queries = 0;  // for the benchmark
 };
 
+// What a motion that is not clear came to, for its message: a distance computed at or below 0
+// (touching), a bound that did not close where no computed distance is below the margin
+// (unproven: no contact was found, so none is claimed), or a distance computed below the margin.
+enum class ClearanceShortfall { touching, unproven, too_close };
+ClearanceShortfall shortfall(const MotionClearance& c);
+
 // The least distance over the scene's pairs at the posture q (mm), exact below `enough` and a
 // lower bound above it; stops early once a pair is below `enough`. `poses` must be prepared for
 // the scene (CollisionScene::prepare). For the planners' posture checks; `pair` gets the pair.
